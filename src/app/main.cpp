@@ -1,0 +1,46 @@
+// capflow: spectral boundary element simulation of elastic capsules in Stokes flow.
+#include <algorithm>
+#include <iostream>
+#include <utility>
+#include <vector>
+
+#include "app/commands.h"
+
+namespace capflow::app {
+namespace {
+std::vector<std::pair<int, CommandSetup>>& registry() {
+  static std::vector<std::pair<int, CommandSetup>> r;
+  return r;
+}
+int g_exit_code = 0;
+}  // namespace
+
+bool register_command(int order, CommandSetup setup) {
+  registry().emplace_back(order, std::move(setup));
+  return true;
+}
+void set_exit_code(int code) { g_exit_code = code; }
+}  // namespace capflow::app
+
+int main(int argc, char** argv) {
+  using namespace capflow::app;
+  CLI::App app{
+      "capflow - elastic capsules in Stokes flow by the spectral boundary element method"};
+  app.require_subcommand(1);
+  auto& reg = registry();
+  std::stable_sort(reg.begin(), reg.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (auto& [order, setup] : reg) setup(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const UserError& e) {
+    std::cerr << "capflow: error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "capflow: internal error: " << e.what() << "\n";
+    return 3;
+  }
+  return g_exit_code;
+}

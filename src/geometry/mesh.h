@@ -1,0 +1,93 @@
+// capflow/geometry/mesh: the spectral-element division of the reference (unit) sphere.
+//
+// The sphere is the projection of a cube [-1,1]^3 whose faces are split into curvilinear
+// quadrilateral elements (paper fig. 1):
+//   NE = 6 : one element per cube face.
+//   NE = 10: the four faces parallel to x (+-y, +-z) split into two rows along x (x<0, x>0),
+//            plus the two caps +-x.
+//   NE = 14: the four faces parallel to y (+-x, +-z) split into three rows along y, plus the
+//            two caps +-y. The rows divide the face's angular range into equal thirds.
+// All three divisions are symmetric under the mirror planes x=0, y=0, z=0.
+//
+// Element parametrisation (xi, eta) in [-1,1]^2. On a face with normal axis a and sign s, xi
+// runs along box axis tu and eta along tv, chosen so that t_xi x t_eta points outward. With
+// the default EQUIANGULAR map the cube coordinate is tan(alpha) with alpha linear in xi
+// (alpha from atan(u0) to atan(u1) for a patch covering [u0, u1] of the face); the RADIAL
+// (gnomonic) map is linear in the cube coordinate and kept only for comparison.
+//
+// Nodes: NB x NB Gauss-Lobatto points per element; local index (e, i, j) -> (e*NB + j)*NB + i,
+// i along xi, j along eta. Nodes on element edges/corners are shared (coincident) by 2, 3 or 4
+// elements; `unique_of` numbers the distinct nodes and `classes` lists each class's locals.
+// `mirror[k][m]` is the local node at the position of local node m reflected in the plane
+// x_k = 0 (in the mirror-image element, so element-local data maps consistently).
+#pragma once
+
+#include <Eigen/Dense>
+#include <array>
+#include <vector>
+
+namespace capflow::geometry {
+
+using Eigen::Matrix3Xd;
+using Eigen::MatrixXd;
+using Eigen::Vector3d;
+using Eigen::VectorXd;
+
+enum class ElementMap { Equiangular, Radial };
+
+struct Patch {
+  int axis = 0;   // face normal axis (0=x, 1=y, 2=z)
+  int sign = 1;   // +1 or -1
+  int tu = 1;     // box axis along xi
+  int tv = 2;     // box axis along eta
+  double a0 = 0, a1 = 0;  // angle range along xi: alpha(xi) = a0 + (a1-a0)(xi+1)/2
+  double b0 = 0, b1 = 0;  // angle range along eta
+};
+
+class Mesh {
+ public:
+  // ne in {6, 10, 14}; nb in [3, 64]. Throws std::invalid_argument otherwise.
+  Mesh(int ne, int nb, ElementMap map = ElementMap::Equiangular);
+
+  int ne() const { return ne_; }
+  int nb() const { return nb_; }
+  ElementMap map() const { return map_; }
+  int nodes_per_element() const { return nb_ * nb_; }
+  int num_local() const { return ne_ * nb_ * nb_; }
+  int num_unique() const { return static_cast<int>(classes_.size()); }
+  int local(int e, int i, int j) const { return (e * nb_ + j) * nb_ + i; }
+
+  const VectorXd& nodes() const { return xi_; }         // Gauss-Lobatto nodes on [-1,1]
+  const VectorXd& bary() const { return bw_; }          // their barycentric weights
+  const MatrixXd& diff() const { return d_; }           // differentiation matrix
+  const std::vector<Patch>& patches() const { return patches_; }
+
+  // Reference sphere node positions, 3 x num_local().
+  const Matrix3Xd& reference() const { return ref_; }
+  // The exact reference sphere point at parameters (xi, eta) of element e.
+  Vector3d sphere_point(int e, double xi, double eta) const;
+
+  const std::vector<int>& unique_of() const { return unique_of_; }
+  const std::vector<std::vector<int>>& classes() const { return classes_; }
+  const std::vector<int>& mirror(int axis) const { return mirror_[axis]; }
+  // Element that is the mirror image of element e in the plane x_axis = 0.
+  int mirror_element(int e, int axis) const { return mirror_elem_[axis][e]; }
+
+ private:
+  void build_patches();
+  void build_coincidence();
+  void build_mirrors();
+
+  int ne_, nb_;
+  ElementMap map_;
+  VectorXd xi_, bw_;
+  MatrixXd d_;
+  std::vector<Patch> patches_;
+  Matrix3Xd ref_;
+  std::vector<int> unique_of_;
+  std::vector<std::vector<int>> classes_;
+  std::array<std::vector<int>, 3> mirror_;
+  std::array<std::vector<int>, 3> mirror_elem_;
+};
+
+}  // namespace capflow::geometry

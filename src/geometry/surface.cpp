@@ -1,0 +1,151 @@
+#include "geometry/surface.h"
+
+#include <vector>
+
+#include "spectral/spectral.h"
+
+namespace capflow::geometry {
+
+MatrixXd d_xi(const Mesh& mesh, const MatrixXd& f) {
+  const int nb = mesh.nb();
+  const MatrixXd& d = mesh.diff();
+  MatrixXd out = MatrixXd::Zero(f.rows(), f.cols());
+  for (int e = 0; e < mesh.ne(); ++e)
+    for (int j = 0; j < nb; ++j)
+      for (int i = 0; i < nb; ++i) {
+        auto o = out.col(mesh.local(e, i, j));
+        for (int k = 0; k < nb; ++k) o += d(i, k) * f.col(mesh.local(e, k, j));
+      }
+  return out;
+}
+
+MatrixXd d_eta(const Mesh& mesh, const MatrixXd& f) {
+  const int nb = mesh.nb();
+  const MatrixXd& d = mesh.diff();
+  MatrixXd out = MatrixXd::Zero(f.rows(), f.cols());
+  for (int e = 0; e < mesh.ne(); ++e)
+    for (int j = 0; j < nb; ++j)
+      for (int i = 0; i < nb; ++i) {
+        auto o = out.col(mesh.local(e, i, j));
+        for (int k = 0; k < nb; ++k) o += d(j, k) * f.col(mesh.local(e, i, k));
+      }
+  return out;
+}
+
+SurfaceGeometry compute_geometry(const Mesh& mesh, const Matrix3Xd& x) {
+  SurfaceGeometry g;
+  const MatrixXd xd = x;
+  g.x = x;
+  g.t1 = d_xi(mesh, xd);
+  g.t2 = d_eta(mesh, xd);
+  g.x11 = d_xi(mesh, g.t1);
+  g.x12 = d_eta(mesh, g.t1);
+  g.x22 = d_eta(mesh, g.t2);
+  const int n = mesh.num_local();
+  g.n.resize(3, n);
+  for (VectorXd* v : {&g.jac, &g.g11, &g.g12, &g.g22, &g.b11, &g.b12, &g.b22,
+                      &g.mean_curvature, &g.gaussian_curvature})
+    v->resize(n);
+  for (int m = 0; m < n; ++m) {
+    const Vector3d c = g.t1.col(m).cross(g.t2.col(m));
+    g.jac[m] = c.norm();
+    g.n.col(m) = c / g.jac[m];
+    g.g11[m] = g.t1.col(m).squaredNorm();
+    g.g12[m] = g.t1.col(m).dot(g.t2.col(m));
+    g.g22[m] = g.t2.col(m).squaredNorm();
+    g.b11[m] = g.n.col(m).dot(g.x11.col(m));
+    g.b12[m] = g.n.col(m).dot(g.x12.col(m));
+    g.b22[m] = g.n.col(m).dot(g.x22.col(m));
+    const double det_g = g.g11[m] * g.g22[m] - g.g12[m] * g.g12[m];
+    // g^ab b_ab = (g22 b11 - 2 g12 b12 + g11 b22) / det g
+    const double trace = (g.g22[m] * g.b11[m] - 2.0 * g.g12[m] * g.b12[m] + g.g11[m] * g.b22[m]) /
+                         det_g;
+    g.mean_curvature[m] = -0.5 * trace;
+    g.gaussian_curvature[m] = (g.b11[m] * g.b22[m] - g.b12[m] * g.b12[m]) / det_g;
+  }
+  return g;
+}
+
+SurfacePoint ElementEvaluator::eval(int e, double s, double t) const {
+  const int nb = mesh_.nb();
+  std::vector<double> ls(nb), dls(nb), lt(nb), dlt(nb), d2s(nb, 0.0), d2t(nb, 0.0);
+  spectral::lagrange_basis(mesh_.nodes(), mesh_.bary(), s, ls.data(), dls.data());
+  spectral::lagrange_basis(mesh_.nodes(), mesh_.bary(), t, lt.data(), dlt.data());
+  // Second derivative of the interpolant: p''(s) = sum_k l_k'(s) (D p)_k, exact for degree nb-1.
+  const MatrixXd& d = mesh_.diff();
+  for (int k = 0; k < nb; ++k)
+    for (int i = 0; i < nb; ++i) {
+      d2s[i] += dls[k] * d(k, i);
+      d2t[i] += dlt[k] * d(k, i);
+    }
+  SurfacePoint p;
+  p.x.setZero();
+  p.xs.setZero();
+  p.xt.setZero();
+  p.xss.setZero();
+  p.xst.setZero();
+  p.xtt.setZero();
+  for (int j = 0; j < nb; ++j) {
+    Vector3d c0 = Vector3d::Zero(), c1 = Vector3d::Zero(), c2 = Vector3d::Zero();
+    for (int i = 0; i < nb; ++i) {
+      const Vector3d xi = x_.col(mesh_.local(e, i, j));
+      c0 += ls[i] * xi;
+      c1 += dls[i] * xi;
+      c2 += d2s[i] * xi;
+    }
+    p.x += lt[j] * c0;
+    p.xs += lt[j] * c1;
+    p.xt += dlt[j] * c0;
+    p.xss += lt[j] * c2;
+    p.xst += dlt[j] * c1;
+    p.xtt += d2t[j] * c0;
+  }
+  return p;
+}
+
+MatrixXd to_gauss(const Mesh& mesh, const MatrixXd& f, const MatrixXd& interp) {
+  const int nb = mesh.nb();
+  const int nq = static_cast<int>(interp.rows());
+  const int rows = static_cast<int>(f.rows());
+  MatrixXd out(rows, mesh.ne() * nq * nq);
+  MatrixXd tmp(rows, nq * nb);  // interpolated along xi: (a, j)
+  for (int e = 0; e < mesh.ne(); ++e) {
+    tmp.setZero();
+    for (int j = 0; j < nb; ++j)
+      for (int a = 0; a < nq; ++a)
+        for (int i = 0; i < nb; ++i) tmp.col(j * nq + a) += interp(a, i) * f.col(mesh.local(e, i, j));
+    for (int b = 0; b < nq; ++b)
+      for (int a = 0; a < nq; ++a) {
+        auto o = out.col((e * nq + b) * nq + a);
+        o.setZero();
+        for (int j = 0; j < nb; ++j) o += interp(b, j) * tmp.col(j * nq + a);
+      }
+  }
+  return out;
+}
+
+QuadratureSurface sample_gauss(const Mesh& mesh, const Matrix3Xd& x, int nq) {
+  QuadratureSurface q;
+  q.nq = nq;
+  const spectral::Rule r = spectral::gauss_legendre(nq);
+  q.interp = spectral::interpolation_matrix(mesh.nodes(), r.x);
+  const MatrixXd xd = x;
+  q.x = to_gauss(mesh, xd, q.interp);
+  q.t1 = to_gauss(mesh, d_xi(mesh, xd), q.interp);
+  q.t2 = to_gauss(mesh, d_eta(mesh, xd), q.interp);
+  const int n = static_cast<int>(q.x.cols());
+  q.n.resize(3, n);
+  q.w.resize(n);
+  for (int e = 0; e < mesh.ne(); ++e)
+    for (int b = 0; b < nq; ++b)
+      for (int a = 0; a < nq; ++a) {
+        const int k = (e * nq + b) * nq + a;
+        const Vector3d c = q.t1.col(k).cross(q.t2.col(k));
+        const double jac = c.norm();
+        q.n.col(k) = c / jac;
+        q.w[k] = r.w[a] * r.w[b] * jac;
+      }
+  return q;
+}
+
+}  // namespace capflow::geometry

@@ -1,0 +1,58 @@
+// capflow/spectral: one-dimensional spectral toolkit on [-1, 1].
+//
+//  * Gauss-Legendre rule, n points: exact for polynomials of degree <= 2n-1.
+//  * Gauss-Lobatto rule, n points (both ends included): exact for degree <= 2n-3.
+//    Nodes and weights come from Newton iteration on Legendre polynomials (no tables);
+//    any n in [1, 256] (Lobatto: [2, 256]) is accepted.
+//  * Barycentric Lagrange interpolation through arbitrary distinct nodes x_0..x_{n-1}:
+//      p(t) = sum_j w_j/(t-x_j) f_j / sum_j w_j/(t-x_j),  w_j = 1/prod_{k!=j}(x_j-x_k)
+//    interpolation_matrix(nodes, t) maps nodal values to values at the targets t, and
+//    differentiation_matrix(nodes) maps nodal values to nodal values of p' (both exact for
+//    polynomials of degree <= n-1).
+//  * Tensor-product evaluation on [-1,1]^2 of values v(i,j) at (x_i, x_j).
+//
+// Failure modes: invalid arguments (n out of range, coincident nodes) throw
+// std::invalid_argument; these are programming errors, not user errors.
+#pragma once
+
+#include <Eigen/Dense>
+#include <vector>
+
+namespace capflow::spectral {
+
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+struct Rule {
+  VectorXd x;  // nodes, ascending
+  VectorXd w;  // weights, sum = 2
+};
+
+// Legendre polynomial P_n(x) and its derivative, by the three-term recurrence.
+void legendre(int n, double x, double* p, double* dp);
+
+Rule gauss_legendre(int n);
+Rule gauss_lobatto(int n);
+
+// Barycentric weights (scaled so that max |w| = 1).
+VectorXd barycentric_weights(const VectorXd& nodes);
+
+// Lagrange basis l_j(t), and its derivative l_j'(t), for all j at one point t.
+// bw: barycentric_weights(nodes). dl may be nullptr. Exact at the nodes (returns unit vectors).
+void lagrange_basis(const VectorXd& nodes, const VectorXd& bw, double t, double* l, double* dl);
+
+// Row k holds l_j(targets[k]): values_at_targets = M * nodal_values.
+MatrixXd interpolation_matrix(const VectorXd& nodes, const VectorXd& targets);
+// Row k holds l_j'(targets[k]).
+MatrixXd derivative_matrix(const VectorXd& nodes, const VectorXd& targets);
+// D(i, j) = l_j'(x_i): nodal derivative = D * nodal_values (rows sum to zero exactly).
+MatrixXd differentiation_matrix(const VectorXd& nodes);
+
+// Tensor-product value at (s, t) of v(i, j) given at (nodes_i, nodes_j):
+//   p(s, t) = sum_ij v(i, j) l_i(s) l_j(t).
+double tensor_evaluate(const VectorXd& nodes, const MatrixXd& v, double s, double t);
+// Values at all target pairs: result(a, b) = p(sa[a], tb[b]).
+MatrixXd tensor_resample(const VectorXd& nodes, const MatrixXd& v, const VectorXd& sa,
+                         const VectorXd& tb);
+
+}  // namespace capflow::spectral
