@@ -1,5 +1,6 @@
 #include "spectral/spectral.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -141,9 +142,28 @@ void lagrange_basis(const VectorXd& nodes, const VectorXd& bw, double t, double*
     s += l[j];
   }
   for (int j = 0; j < n; ++j) l[j] /= s;
-  if (dl) {
-    // l_k'(t) = [a_k/(t-x_k)]/S' ... expressed via p'(t) for unit data f = e_k:
-    // l_k'(t) = (sum_j a_j (l_k(t) - delta_jk)/(t-x_j)) / S
+  if (!dl) return;
+  double nearest = 2.0;
+  for (int j = 0; j < n; ++j) nearest = std::min(nearest, std::abs(t - nodes[j]));
+  if (nearest < 1e-2) {
+    // Near a node the closed form below cancels catastrophically (error ~ eps/|t - x_j|).
+    // Use instead that p' (degree n-2) equals its own interpolant:
+    //   l_k'(t) = sum_m l_m(t) D(m, k),  D(m, k) = l_k'(x_m)   (exact, O(n^2)).
+    for (int k = 0; k < n; ++k) dl[k] = 0.0;
+    for (int m = 0; m < n; ++m) {
+      double diag = 0.0;
+      for (int k = 0; k < n; ++k) {
+        if (k == m) continue;
+        const double dmk = (bw[k] / bw[m]) / (nodes[m] - nodes[k]);
+        dl[k] += l[m] * dmk;
+        diag -= dmk;
+      }
+      dl[m] += l[m] * diag;
+    }
+    return;
+  }
+  {
+    // l_k'(t) = (sum_j a_j (l_k(t) - delta_jk)/(t-x_j)) / S,  a_j = w_j/(t-x_j)
     double q = 0.0;  // sum_j a_j/(t-x_j) / S
     for (int j = 0; j < n; ++j) q += (bw[j] / (t - nodes[j])) / (t - nodes[j]);
     q /= s;

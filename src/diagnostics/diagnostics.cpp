@@ -1,0 +1,295 @@
+#include "diagnostics/diagnostics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <stdexcept>
+
+namespace capflow::diagnostics {
+
+namespace {
+
+using geometry::ElementEvaluator;
+using geometry::SurfacePoint;
+
+// A scalar objective phi(x) on R^3 with gradient and Hessian, restricted to the surface.
+struct Objective {
+  std::function<double(const Vector3d&)> value;
+  std::function<Vector3d(const Vector3d&)> grad;
+  Matrix3d hess;  // constant Hessian (enough for |x-c|^2/2 and linear functions)
+};
+
+struct Extremum {
+  double value = -std::numeric_limits<double>::infinity();
+  Vector3d x = Vector3d::Zero();
+};
+
+// Maximises phi over element e with box-constrained Newton from (s, t).
+Extremum maximise_on_element(const ElementEvaluator& ev, const Objective& phi, int e, double s,
+                             double t) {
+  for (int it = 0; it < 60; ++it) {
+    const SurfacePoint p = ev.eval(e, s, t);
+    const Vector3d gx = phi.grad(p.x);
+    // psi = -phi is minimised.
+    Eigen::Vector2d g(-gx.dot(p.xs), -gx.dot(p.xt));
+    Eigen::Matrix2d h;
+    h(0, 0) = -(p.xs.dot(phi.hess * p.xs) + gx.dot(p.xss));
+    h(0, 1) = h(1, 0) = -(p.xs.dot(phi.hess * p.xt) + gx.dot(p.xst));
+    h(1, 1) = -(p.xt.dot(phi.hess * p.xt) + gx.dot(p.xtt));
+    // Active set: a coordinate at its bound whose descent direction points outward is frozen.
+    bool free_s = !((s >= 1.0 && g[0] < 0) || (s <= -1.0 && g[0] > 0));
+    bool free_t = !((t >= 1.0 && g[1] < 0) || (t <= -1.0 && g[1] > 0));
+    Eigen::Vector2d step(0, 0);
+    auto newton_1d = [](double gg, double hh) { return hh > 0 ? -gg / hh : -0.1 * gg; };
+    if (free_s && free_t) {
+      const double det = h(0, 0) * h(1, 1) - h(0, 1) * h(1, 0);
+      if (h(0, 0) > 0 && det > 0)
+        step = -h.inverse() * g;
+      else
+        step = -0.1 * g / std::max(1.0, g.norm());
+    } else if (free_s) {
+      step[0] = newton_1d(g[0], h(0, 0));
+    } else if (free_t) {
+      step[1] = newton_1d(g[1], h(1, 1));
+    }
+    // Limit the step to keep Newton inside the region where the interpolant is trusted.
+    const double sn = step.norm();
+    if (sn > 0.5) step *= 0.5 / sn;
+    const double s_new = std::clamp(s + step[0], -1.0, 1.0);
+    const double t_new = std::clamp(t + step[1], -1.0, 1.0);
+    const double moved = std::abs(s_new - s) + std::abs(t_new - t);
+    s = s_new;
+    t = t_new;
+    if (moved < 1e-15) break;
+  }
+  const SurfacePoint p = ev.eval(e, s, t);
+  return {phi.value(p.x), p.x};
+}
+
+// Maximises phi over the whole surface: best node, then Newton in every element sharing it.
+Extremum maximise(const Mesh& mesh, const Matrix3Xd& x, const ElementEvaluator& ev,
+                  const Objective& phi) {
+  int best = 0;
+  double best_value = -std::numeric_limits<double>::infinity();
+  for (int m = 0; m < mesh.num_local(); ++m) {
+    const double v = phi.value(x.col(m));
+    if (v > best_value) {
+      best_value = v;
+      best = m;
+    }
+  }
+  Extremum result{best_value, x.col(best)};
+  const int nb = mesh.nb();
+  for (int q : mesh.classes()[mesh.unique_of()[best]]) {
+    const int e = q / (nb * nb);
+    const int i = q % nb, j = (q / nb) % nb;
+    const Extremum r = maximise_on_element(ev, phi, e, mesh.nodes()[i], mesh.nodes()[j]);
+    if (r.value > result.value) result = r;
+  }
+  return result;
+}
+
+// Solves y(s,t) = c1, z(s,t) = c2 on element e (2x2 Newton); false if it leaves the element.
+bool pierce_x_axis(const ElementEvaluator& ev, int e, double s, double t, const Vector3d& c,
+                   double* s_out, double* t_out) {
+  for (int it = 0; it < 50; ++it) {
+    const SurfacePoint p = ev.eval(e, s, t);
+    const Eigen::Vector2d r(p.x.y() - c.y(), p.x.z() - c.z());
+    Eigen::Matrix2d j;
+    j << p.xs.y(), p.xt.y(), p.xs.z(), p.xt.z();
+    if (std::abs(j.determinant()) < 1e-300) return false;
+    const Eigen::Vector2d step = -j.inverse() * r;
+    s += step[0];
+    t += step[1];
+    if (std::abs(s) > 1.5 || std::abs(t) > 1.5) return false;
+    if (step.norm() < 1e-15) break;
+  }
+  *s_out = s;
+  *t_out = t;
+  return std::abs(s) <= 1.0 + 1e-9 && std::abs(t) <= 1.0 + 1e-9;
+}
+
+double edge_curvature_at_tip(const Mesh& mesh, const Matrix3Xd& x, const ElementEvaluator& ev,
+                             const Vector3d& c, Vector3d* tip) {
+  // Start from the node closest to the +x axis through c, among those with x > c_x.
+  int best = -1;
+  double best_d = std::numeric_limits<double>::infinity();
+  for (int m = 0; m < mesh.num_local(); ++m) {
+    const Vector3d r = x.col(m) - c;
+    if (r.x() <= 0) continue;
+    const double d = std::hypot(r.y(), r.z()) / r.x();
+    if (d < best_d) {
+      best_d = d;
+      best = m;
+    }
+  }
+  if (best < 0) throw std::runtime_error("edge curvature: no surface point with x > x_c");
+  const int nb = mesh.nb();
+  for (int q : mesh.classes()[mesh.unique_of()[best]]) {
+    const int e = q / (nb * nb);
+    double s, t;
+    if (!pierce_x_axis(ev, e, mesh.nodes()[q % nb], mesh.nodes()[(q / nb) % nb], c, &s, &t))
+      continue;
+    const SurfacePoint p = ev.eval(e, s, t);
+    const Vector3d n = p.normal();
+    Eigen::Matrix2d g;
+    g << p.xs.dot(p.xs), p.xs.dot(p.xt), p.xs.dot(p.xt), p.xt.dot(p.xt);
+    Eigen::Matrix2d b;
+    b << n.dot(p.xss), n.dot(p.xst), n.dot(p.xst), n.dot(p.xtt);
+    const Eigen::Vector2d d = g.inverse() * Eigen::Vector2d(p.xs.y(), p.xt.y());
+    *tip = p.x;
+    return std::abs(d.dot(b * d)) / d.dot(g * d);
+  }
+  throw std::runtime_error("edge curvature: the +x axis through the centroid does not cross "
+                           "the surface near its tip");
+}
+
+void assign_axes(ShapeDiagnostics* r, AxesMode mode) {
+  const Matrix3d& v = r->axis_directions;
+  if (mode == AxesMode::FlowAxes) {
+    // Greedy assignment by alignment |v_k . e_axis|, largest first.
+    int owner[3] = {-1, -1, -1};  // flow axis -> eigen index
+    bool used[3] = {false, false, false};
+    for (int pass = 0; pass < 3; ++pass) {
+      double best = -1;
+      int bk = 0, ba = 0;
+      for (int k = 0; k < 3; ++k)
+        for (int a = 0; a < 3; ++a)
+          if (!used[k] && owner[a] < 0 && std::abs(v(a, k)) > best) {
+            best = std::abs(v(a, k));
+            bk = k;
+            ba = a;
+          }
+      used[bk] = true;
+      owner[ba] = bk;
+    }
+    r->L = r->semi_axes[owner[0]];
+    r->S = r->semi_axes[owner[1]];
+    r->W = r->semi_axes[owner[2]];
+  } else {
+    int ky = 0;
+    for (int k = 1; k < 3; ++k)
+      if (std::abs(v(1, k)) > std::abs(v(1, ky))) ky = k;
+    int kl = -1, ks = -1;
+    for (int k = 0; k < 3; ++k) {
+      if (k == ky) continue;
+      if (kl < 0)
+        kl = k;
+      else
+        ks = k;
+    }
+    if (r->semi_axes[ks] > r->semi_axes[kl]) std::swap(kl, ks);
+    r->L = r->semi_axes[kl];
+    r->S = r->semi_axes[ks];
+    r->W = r->semi_axes[ky];
+    double ang = std::atan2(v(2, kl), v(0, kl)) * 180.0 / 3.14159265358979323846;
+    if (ang > 90.0) ang -= 180.0;
+    if (ang <= -90.0) ang += 180.0;
+    r->inclination_deg = ang;
+  }
+  r->D = (r->L - r->S) / (r->L + r->S);
+}
+
+}  // namespace
+
+ShapeDiagnostics measure_shape(const Mesh& mesh, const Matrix3Xd& x, const ShapeOptions& opt) {
+  ShapeDiagnostics r;
+  const int nq = opt.nq > 0 ? opt.nq : mesh.nb() + 4;
+  const geometry::QuadratureSurface q = geometry::sample_gauss(mesh, x, nq);
+  const int n = static_cast<int>(q.x.cols());
+  Vector3d cnum = Vector3d::Zero();
+  for (int k = 0; k < n; ++k) {
+    r.area += q.w[k];
+    r.volume += q.x.col(k).dot(q.n.col(k)) * q.w[k] / 3.0;
+    cnum += 0.5 * q.x.col(k).squaredNorm() * q.n.col(k) * q.w[k];
+  }
+  r.centroid = cnum / r.volume;
+  for (int k = 0; k < n; ++k) {
+    const Vector3d xi = q.x.col(k) - r.centroid;
+    r.inertia += xi * xi.transpose() * (xi.dot(q.n.col(k)) * q.w[k] / 5.0);
+  }
+  Eigen::SelfAdjointEigenSolver<Matrix3d> es(r.inertia);
+  // Eigen sorts ascending; store descending.
+  for (int k = 0; k < 3; ++k) {
+    r.semi_axes[k] = std::sqrt(5.0 * std::max(0.0, es.eigenvalues()[2 - k]) / r.volume);
+    r.axis_directions.col(k) = es.eigenvectors().col(2 - k);
+  }
+  assign_axes(&r, opt.axes);
+
+  const ElementEvaluator ev(mesh, x);
+  if (opt.extrema) {
+    const Vector3d c = r.centroid;
+    const Objective far{[c](const Vector3d& p) { return 0.5 * (p - c).squaredNorm(); },
+                        [c](const Vector3d& p) { return Vector3d(p - c); }, Matrix3d::Identity()};
+    const Objective near{[c](const Vector3d& p) { return -0.5 * (p - c).squaredNorm(); },
+                         [c](const Vector3d& p) { return Vector3d(c - p); },
+                         -Matrix3d::Identity()};
+    const Objective up{[c](const Vector3d& p) { return p.z() - c.z(); },
+                       [](const Vector3d&) { return Vector3d(0, 0, 1); }, Matrix3d::Zero()};
+    const Objective down{[c](const Vector3d& p) { return c.z() - p.z(); },
+                         [](const Vector3d&) { return Vector3d(0, 0, -1); }, Matrix3d::Zero()};
+    r.Lc = std::sqrt(2.0 * maximise(mesh, x, ev, far).value);
+    r.Sc = std::sqrt(-2.0 * maximise(mesh, x, ev, near).value);
+    r.Wc = std::max(maximise(mesh, x, ev, up).value, maximise(mesh, x, ev, down).value);
+  }
+  if (opt.edge_curvature) r.edge_curvature = edge_curvature_at_tip(mesh, x, ev, r.centroid, &r.tip);
+  return r;
+}
+
+std::vector<Vector2d> cross_section(const Mesh& mesh, const Matrix3Xd& x, int axis, double value,
+                                    const Vector2d& center) {
+  if (axis < 0 || axis > 2) throw std::invalid_argument("cross_section: axis must be 0, 1 or 2");
+  const int a0 = (axis == 0) ? 1 : 0;
+  const int a1 = (axis == 2) ? 1 : 2;
+  const ElementEvaluator ev(mesh, x);
+  const int lines = 4 * mesh.nb();
+  const int samples = 4 * mesh.nb();
+  std::vector<Vector2d> pts;
+  for (int e = 0; e < mesh.ne(); ++e) {
+    for (int dir = 0; dir < 2; ++dir) {
+      for (int l = 0; l < lines; ++l) {
+        const double fixed = -1.0 + 2.0 * (l + 0.5) / lines;
+        auto at = [&](double u) { return dir == 0 ? ev.eval(e, fixed, u) : ev.eval(e, u, fixed); };
+        double u_prev = -1.0;
+        double f_prev = at(u_prev).x[axis] - value;
+        for (int k = 1; k <= samples; ++k) {
+          const double u = -1.0 + 2.0 * k / samples;
+          const double f = at(u).x[axis] - value;
+          if ((f_prev <= 0 && f > 0) || (f_prev > 0 && f <= 0)) {
+            // Safeguarded Newton (falls back to bisection) on [u_prev, u].
+            double lo = u_prev, hi = u, flo = f_prev;
+            double r = 0.5 * (lo + hi);
+            for (int it = 0; it < 60; ++it) {
+              const SurfacePoint p = at(r);
+              const double fr = p.x[axis] - value;
+              if (std::abs(fr) < 1e-14) break;
+              if ((fr > 0) == (flo > 0)) {
+                lo = r;
+                flo = fr;
+              } else {
+                hi = r;
+              }
+              const double dfr = (dir == 0 ? p.xt : p.xs)[axis];
+              double rn = (dfr != 0) ? r - fr / dfr : 0.5 * (lo + hi);
+              if (rn <= lo || rn >= hi) rn = 0.5 * (lo + hi);
+              if (std::abs(rn - r) < 1e-15) break;
+              r = rn;
+            }
+            const Vector3d p = at(r).x;
+            pts.emplace_back(p[a0], p[a1]);
+          }
+          u_prev = u;
+          f_prev = f;
+        }
+      }
+    }
+  }
+  std::sort(pts.begin(), pts.end(), [&center](const Vector2d& a, const Vector2d& b) {
+    return std::atan2(a.y() - center.y(), a.x() - center.x()) <
+           std::atan2(b.y() - center.y(), b.x() - center.x());
+  });
+  return pts;
+}
+
+}  // namespace capflow::diagnostics

@@ -1,0 +1,192 @@
+// Geometry: element divisions, coincidence classes, mirror maps, differential geometry.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <random>
+
+#include "geometry/mesh.h"
+#include "geometry/shapes.h"
+#include "geometry/surface.h"
+
+using namespace capflow::geometry;
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+
+double max_mean_curvature_error_sphere(int ne, int nb, ElementMap map) {
+  const Mesh mesh(ne, nb, map);
+  const SurfaceGeometry g = compute_geometry(mesh, mesh.reference());
+  return (g.mean_curvature.array() - 1.0).abs().maxCoeff();
+}
+}  // namespace
+
+TEST(Geometry, RejectsBadDivisions) {
+  EXPECT_THROW(Mesh(8, 10), std::invalid_argument);
+  EXPECT_THROW(Mesh(6, 2), std::invalid_argument);
+}
+
+TEST(Geometry, CoincidenceClassesHaveTheRightValences) {
+  for (int ne : {6, 10, 14}) {
+    for (int nb = 4; nb <= 16; ++nb) {
+      const Mesh mesh(ne, nb);
+      std::map<size_t, int> count;
+      for (const auto& c : mesh.classes()) {
+        ++count[c.size()];
+        // Members coincide; they belong to different elements.
+        for (size_t k = 1; k < c.size(); ++k) {
+          ASSERT_LT((mesh.reference().col(c[k]) - mesh.reference().col(c[0])).norm(), 1e-12);
+          ASSERT_NE(c[k] / (nb * nb), c[0] / (nb * nb));
+        }
+        const Vector3d p = mesh.reference().col(c[0]).cwiseAbs();
+        if (c.size() == 3) {  // cube corners
+          EXPECT_NEAR(p.x(), 1 / std::sqrt(3.0), 1e-14);
+          EXPECT_NEAR(p.y(), 1 / std::sqrt(3.0), 1e-14);
+        }
+        if (c.size() == 4) {  // a division line meets a cube edge: one coordinate is zero
+                              // (NE=10) or the division angle (NE=14)
+          const int zero = (p.minCoeff() < 1e-14) ? 1 : 0;
+          EXPECT_TRUE(zero == 1 || ne == 14);
+        }
+      }
+      // Distinct classes are distinct points (no missed coincidences).
+      double min_sep = 1e9;
+      const auto& cls = mesh.classes();
+      for (size_t a = 0; a < cls.size(); ++a)
+        for (size_t b = a + 1; b < cls.size(); ++b)
+          min_sep = std::min(min_sep,
+                             (mesh.reference().col(cls[a][0]) - mesh.reference().col(cls[b][0]))
+                                 .squaredNorm());
+      EXPECT_GT(std::sqrt(min_sep), 1e-4);
+      const int split_points = (ne == 6) ? 0 : (ne == 10 ? 4 : 8);
+      EXPECT_EQ(count[1], ne * (nb - 2) * (nb - 2)) << ne << " " << nb;
+      EXPECT_EQ(count[3], 8);
+      EXPECT_EQ(count[4], split_points);
+      // Euler: edges of the element graph, each with nb-2 interior shared nodes.
+      const int edges = 2 * ne;  // quadrilateral mesh of the sphere: E = 2 F
+      EXPECT_EQ(count[2], edges * (nb - 2)) << ne << " " << nb;
+      EXPECT_EQ(mesh.num_unique(), static_cast<int>(cls.size()));
+    }
+  }
+}
+
+TEST(Geometry, MirrorMapsReflectPositions) {
+  for (int ne : {6, 10, 14}) {
+    for (int nb = 4; nb <= 16; nb += 3) {
+      const Mesh mesh(ne, nb);
+      for (int k = 0; k < 3; ++k) {
+        const auto& mir = mesh.mirror(k);
+        for (int m = 0; m < mesh.num_local(); ++m) {
+          Vector3d p = mesh.reference().col(m);
+          p[k] = -p[k];
+          ASSERT_LT((mesh.reference().col(mir[m]) - p).norm(), 1e-12);
+          ASSERT_EQ(mir[mir[m]], m);  // an involution
+          ASSERT_EQ(mir[m] / (nb * nb), mesh.mirror_element(m / (nb * nb), k));
+        }
+      }
+    }
+  }
+}
+
+TEST(Geometry, SphereNormalsOutwardAndCurvatures) {
+  for (int ne : {6, 10, 14}) {
+    const Mesh mesh(ne, 14);
+    const SurfaceGeometry g = compute_geometry(mesh, mesh.reference());
+    for (int m = 0; m < mesh.num_local(); ++m) {
+      ASSERT_GT(g.n.col(m).dot(mesh.reference().col(m)), 0.9999);
+      ASSERT_NEAR(g.gaussian_curvature[m], 1.0, 1e-3);
+    }
+  }
+}
+
+TEST(Geometry, SphereMeanCurvatureConvergesExponentially) {
+  for (int ne : {6, 10, 14}) {
+    double e8 = max_mean_curvature_error_sphere(ne, 8, ElementMap::Equiangular);
+    double e12 = max_mean_curvature_error_sphere(ne, 12, ElementMap::Equiangular);
+    double e16 = max_mean_curvature_error_sphere(ne, 16, ElementMap::Equiangular);
+    EXPECT_LT(e12, e8 / 30) << ne;
+    EXPECT_LT(e16, e12 / 30) << ne;
+  }
+  EXPECT_LE(max_mean_curvature_error_sphere(6, 14, ElementMap::Equiangular), 1e-4);
+  // The equiangular parametrisation beats the radial (gnomonic) one by orders of magnitude.
+  EXPECT_GT(max_mean_curvature_error_sphere(6, 14, ElementMap::Radial),
+            100 * max_mean_curvature_error_sphere(6, 14, ElementMap::Equiangular));
+}
+
+TEST(Geometry, SphereAreaAndVolume) {
+  for (int ne : {6, 10, 14}) {
+    const Mesh mesh(ne, 14);
+    const QuadratureSurface q = sample_gauss(mesh, mesh.reference(), 18);
+    double area = q.w.sum(), vol = 0;
+    for (int k = 0; k < q.x.cols(); ++k) vol += q.x.col(k).dot(q.n.col(k)) * q.w[k] / 3;
+    EXPECT_NEAR(area / (4 * kPi), 1.0, 1e-10) << ne;
+    EXPECT_NEAR(vol / (4 * kPi / 3), 1.0, 1e-10) << ne;
+  }
+}
+
+TEST(Geometry, NodalDerivativesMatchFiniteDifferencesOfTheExactMap) {
+  // t_a from the differentiation matrix vs central differences of the analytic sphere map.
+  const Mesh mesh(10, 16);
+  const Matrix3Xd x = map_points(mesh.reference(), ellipsoid_map(1.3, 0.8, 1.1));
+  const SurfaceGeometry g = compute_geometry(mesh, x);
+  const double h = 1e-5;
+  double worst = 0;
+  for (int e = 0; e < mesh.ne(); ++e)
+    for (int j = 0; j < 16; j += 5)
+      for (int i = 0; i < 16; i += 3) {
+        const double s = mesh.nodes()[i], t = mesh.nodes()[j];
+        auto f = [&](double a, double b) {
+          Vector3d p = mesh.sphere_point(e, a, b);
+          return Vector3d(1.3 * p.x(), 0.8 * p.y(), 1.1 * p.z());
+        };
+        const Vector3d fd1 = (f(s + h, t) - f(s - h, t)) / (2 * h);
+        const Vector3d fd2 = (f(s, t + h) - f(s, t - h)) / (2 * h);
+        const int m = mesh.local(e, i, j);
+        worst = std::max(worst, (g.t1.col(m) - fd1).norm());
+        worst = std::max(worst, (g.t2.col(m) - fd2).norm());
+      }
+  EXPECT_LT(worst, 1e-8);
+}
+
+TEST(Geometry, ElementEvaluatorDerivativesMatchFiniteDifferences) {
+  const Mesh mesh(14, 12);
+  const Matrix3Xd x = map_points(mesh.reference(), lamellar_map());
+  const ElementEvaluator ev(mesh, x);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-0.95, 0.95);
+  const double h = 1e-4;
+  for (int k = 0; k < 50; ++k) {
+    const int e = k % mesh.ne();
+    const double s = u(rng), t = u(rng);
+    const SurfacePoint p = ev.eval(e, s, t);
+    const SurfacePoint ps = ev.eval(e, s + h, t), ms = ev.eval(e, s - h, t);
+    const SurfacePoint pt = ev.eval(e, s, t + h), mt = ev.eval(e, s, t - h);
+    const double tol = 1e-6 * (1 + p.xs.norm() + p.xt.norm());
+    EXPECT_LT((p.xs - (ps.x - ms.x) / (2 * h)).norm(), tol);
+    EXPECT_LT((p.xt - (pt.x - mt.x) / (2 * h)).norm(), tol);
+    EXPECT_LT((p.xss - (ps.xs - ms.xs) / (2 * h)).norm(), 1e2 * tol);
+    EXPECT_LT((p.xst - (pt.xs - mt.xs) / (2 * h)).norm(), 1e2 * tol);
+    EXPECT_LT((p.xst - (ps.xt - ms.xt) / (2 * h)).norm(), 1e2 * tol);
+    EXPECT_LT((p.xtt - (pt.xt - mt.xt) / (2 * h)).norm(), 1e2 * tol);
+  }
+  // At a node the evaluator reproduces the node and the nodal derivative exactly.
+  const SurfaceGeometry g = compute_geometry(mesh, x);
+  const int m = mesh.local(3, 4, 7);
+  const SurfacePoint p = ev.eval(3, mesh.nodes()[4], mesh.nodes()[7]);
+  EXPECT_LT((p.x - x.col(m)).norm(), 1e-14);
+  EXPECT_LT((p.xs - g.t1.col(m)).norm(), 1e-11);
+  EXPECT_LT((p.xtt - g.x22.col(m)).norm(), 1e-9);
+}
+
+TEST(Geometry, EllipsoidMeanCurvatureMatchesClosedForm) {
+  for (int ne : {6, 10, 14}) {
+    const Mesh mesh(ne, 16);
+    const Matrix3Xd x = map_points(mesh.reference(), ellipsoid_map(1.8, 0.7, 1.0));
+    const SurfaceGeometry g = compute_geometry(mesh, x);
+    double err = 0;
+    for (int m = 0; m < mesh.num_local(); ++m)
+      err = std::max(err, std::abs(g.mean_curvature[m] -
+                                   ellipsoid_mean_curvature(1.8, 0.7, 1.0, x.col(m))));
+    EXPECT_LT(err, 1e-5) << ne;
+  }
+}
