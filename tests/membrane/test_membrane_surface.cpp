@@ -78,15 +78,14 @@ TEST(MembraneSurface, TractionIsEnergyVariation) {
     const Matrix3Xd dx = testing::smooth_perturbation(mesh.reference(), seed);
     for (const auto& law : all_laws()) {
       const Membrane mem(mesh, mesh.reference(), law);
-      const double h = 1e-5;
-      const double de = (mem.energy(x + h * dx) - mem.energy(x - h * dx)) / (2 * h);
+      const double de = testing::energy_derivative(mem, x, dx);
       const Matrix3Xd f = mem.traction(x);
       const MatrixXd fdx = f.cwiseProduct(dx).colwise().sum();
       const double work = testing::gauss_integral(mesh, x, fdx, mesh.nb() + 4)[0];
       const double rel = std::abs(de - work) / std::abs(de);
       std::printf("%-26s seed %u: dE/deps=% .10f  INT f.dx dS=% .10f  rel.diff=%.1e\n",
                   label(*law).c_str(), seed, de, work, rel);
-      EXPECT_LT(rel, 1e-4) << label(*law);
+      EXPECT_LT(rel, 1e-6) << label(*law);  // measured <= 2.7e-7 (Skalak C=10)
     }
   }
 }
