@@ -150,7 +150,7 @@ void Membrane::traction(const Matrix3Xd& x, Matrix3Xd* f) const {
   const int nb = mesh_.nb(), ne = mesh_.ne(), n = mesh_.num_local();
   Matrix3Xd t1, t2;
   current_tangents(x, &t1, &t2);
-  // q^a = sqrt(g) (cb G^ab + cp g^ab) t_b, stored in t1/t2's place after use.
+  // q^a = sqrt(g) (cb G^ab + cp g^ab) t_b.
   Matrix3Xd q1(3, n), q2(3, n);
   VectorXd jac(n);
   const Law& law = *law_;
@@ -206,12 +206,12 @@ MembraneFields Membrane::fields(const Matrix3Xd& x) const {
   for (VectorXd* v : {&out.js, &out.i1, &out.i2, &out.lambda1, &out.lambda2, &out.tension1,
                       &out.tension2, &out.energy_density})
     v->resize(n);
-  for (Matrix3Xd* v :
-       {&out.stretch_dir1, &out.stretch_dir2, &out.tension_dir1, &out.tension_dir2})
+  for (Matrix3Xd* v : {&out.stretch_dir1, &out.stretch_dir2, &out.tension_dir1, &out.tension_dir2})
     v->resize(3, n);
   for (int m = 0; m < n; ++m) {
     check_area(t1.col(m).cross(t2.col(m)).norm());
-    const PointKinematics k = point_kinematics(ref_t1_.col(m), ref_t2_.col(m), t1.col(m), t2.col(m));
+    const PointKinematics k =
+        point_kinematics(ref_t1_.col(m), ref_t2_.col(m), t1.col(m), t2.col(m));
     const PointPrincipal p = point_principal(*law_, k);
     out.A[m] = k.A;
     out.B[m] = k.B;

@@ -67,11 +67,11 @@ PointPrincipal point_principal(const Law& law, const PointKinematics& k);
 struct MembraneFields {
   std::vector<Matrix3d> A, B, tau;
   VectorXd js, i1, i2;
-  VectorXd lambda1, lambda2;           // principal stretches, lambda1 >= lambda2
+  VectorXd lambda1, lambda2;  // principal stretches, lambda1 >= lambda2
   Matrix3Xd stretch_dir1, stretch_dir2;
-  VectorXd tension1, tension2;         // principal tensions, tension1 >= tension2
+  VectorXd tension1, tension2;  // principal tensions, tension1 >= tension2
   Matrix3Xd tension_dir1, tension_dir2;
-  VectorXd energy_density;             // w per reference area
+  VectorXd energy_density;  // w per reference area
 };
 
 class Membrane {
@@ -101,10 +101,10 @@ class Membrane {
 
   const geometry::Mesh& mesh_;
   std::shared_ptr<const Law> law_;
-  Matrix3Xd ref_t1_, ref_t2_;          // reference tangents at nodes
+  Matrix3Xd ref_t1_, ref_t2_;             // reference tangents at nodes
   VectorXd gi11_, gi12_, gi22_, sqrt_g_;  // reference G^ab and sqrt(G) at nodes
   int nq_;
-  MatrixXd interp_;                     // nq x nb
+  MatrixXd interp_;                                     // nq x nb
   VectorXd qgi11_, qgi12_, qgi22_, qsqrt_g_, qweight_;  // at Gauss points; weight = wa wb
 };
 

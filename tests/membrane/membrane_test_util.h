@@ -41,8 +41,8 @@ inline Matrix3Xd smooth_perturbation(const Matrix3Xd& ref, unsigned seed) {
   };
   std::vector<Mode> modes[3];
   for (int c = 0; c < 3; ++c)
-    for (int m = 0; m < 4; ++m) modes[c].push_back({Vector3d(u(gen), u(gen), u(gen)) * 1.5,
-                                                    u(gen), 3.0 * u(gen)});
+    for (int m = 0; m < 4; ++m)
+      modes[c].push_back({Vector3d(u(gen), u(gen), u(gen)) * 1.5, u(gen), 3.0 * u(gen)});
   Matrix3Xd d(3, ref.cols());
   for (int i = 0; i < ref.cols(); ++i)
     for (int c = 0; c < 3; ++c) {

@@ -62,7 +62,8 @@ TEST(MembraneLaw, CartesianMatchesPrincipalForRandomStretches) {
       worst = std::max(worst, err);
       ASSERT_LT(err, 1e-12) << label(*law) << " l1=" << l1 << " l2=" << l2;
       // Kinematics: B, Js, I1, A = F P_ref.
-      const Eigen::Matrix3d B = l1 * l1 * s.d1 * s.d1.transpose() + l2 * l2 * s.d2 * s.d2.transpose();
+      const Eigen::Matrix3d B =
+          l1 * l1 * s.d1 * s.d1.transpose() + l2 * l2 * s.d2 * s.d2.transpose();
       EXPECT_LT((k.B - B).cwiseAbs().maxCoeff(), 1e-13 * 6.25);
       EXPECT_NEAR(k.js, l1 * l2, 1e-13 * l1 * l2);
       EXPECT_NEAR(k.i1, l1 * l1 + l2 * l2 - 2.0, 1e-13 * 12.5);
@@ -163,13 +164,12 @@ TEST(MembraneLaw, SmallStrainModuli) {
     std::shared_ptr<const Law> law;
     double ks;
   };
-  for (const Case& c : {Case{std::make_shared<NeoHookeanLaw>(), 3.0},
-                        Case{std::make_shared<SkalakLaw>(1.0), 3.0},
-                        Case{std::make_shared<SkalakLaw>(0.3), 1.6},
-                        Case{std::make_shared<SkalakLaw>(10.0), 21.0},
-                        Case{std::make_shared<MooneyRivlinLaw>(0.0), 3.0},
-                        Case{std::make_shared<MooneyRivlinLaw>(0.5), 3.0},
-                        Case{std::make_shared<NeoHookeanLaw>(2.5), 7.5}}) {
+  for (const Case& c :
+       {Case{std::make_shared<NeoHookeanLaw>(), 3.0}, Case{std::make_shared<SkalakLaw>(1.0), 3.0},
+        Case{std::make_shared<SkalakLaw>(0.3), 1.6}, Case{std::make_shared<SkalakLaw>(10.0), 21.0},
+        Case{std::make_shared<MooneyRivlinLaw>(0.0), 3.0},
+        Case{std::make_shared<MooneyRivlinLaw>(0.5), 3.0},
+        Case{std::make_shared<NeoHookeanLaw>(2.5), 7.5}}) {
     const Law& L = *c.law;
     auto shear = [&](double e) {
       return L.principal_tension(1 + e, 1 - e) - L.principal_tension(1 - e, 1 + e);

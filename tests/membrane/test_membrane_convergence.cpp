@@ -3,9 +3,9 @@
 // Run: build-membrane/tests/membrane/test_membrane_convergence   (prints the tables)
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <chrono>
 
 #include "membrane_test_util.h"
 
@@ -36,8 +36,7 @@ MatrixXd traction_samples(int nb, const geometry::PointMap& map, std::shared_ptr
 }
 
 // Relative error max|f_NB - f_30| / max|f_30| at the interior points.
-std::vector<double> convergence_row(const geometry::PointMap& map,
-                                    std::shared_ptr<const Law> law) {
+std::vector<double> convergence_row(const geometry::PointMap& map, std::shared_ptr<const Law> law) {
   const MatrixXd ref = traction_samples(30, map, law);
   const double scale = ref.colwise().norm().maxCoeff();
   std::vector<double> row;
@@ -69,7 +68,9 @@ struct Shape {
 const Shape kEllipsoid1{"ellipsoid (1.2,0.9,1/1.08)", geometry::ellipsoid_map(1.2, 0.9, 1 / 1.08)};
 const Shape kEllipsoid2{"ellipsoid (1.8,0.7,1.0)", geometry::ellipsoid_map(1.8, 0.7, 1.0)};
 
-bool is_skalak(const Law& law) { return dynamic_cast<const SkalakLaw*>(&law) != nullptr; }
+bool is_skalak(const Law& law) {
+  return dynamic_cast<const SkalakLaw*>(&law) != nullptr;
+}
 
 TEST(MembraneValidation, TractionConvergesInNB) {
   // Measured at NB=14 (max over elements and 3 interior points, relative to max|f|):
@@ -78,8 +79,10 @@ TEST(MembraneValidation, TractionConvergesInNB) {
     Shape shape;
     double soft14, hard14, decay;  // thresholds at NB=14; required err(24)/err(8)
   };
-  for (const Case& c : {Case{kEllipsoid1, 2.5e-4, 1e-5, 1e-6}, Case{kEllipsoid2, 8e-2, 3e-3, 5e-3}}) {
-    print_header((std::string("f relative error vs NB=30, interior points, ") + c.shape.name).c_str());
+  for (const Case& c :
+       {Case{kEllipsoid1, 2.5e-4, 1e-5, 1e-6}, Case{kEllipsoid2, 8e-2, 3e-3, 5e-3}}) {
+    print_header(
+        (std::string("f relative error vs NB=30, interior points, ") + c.shape.name).c_str());
     for (const auto& law : all_laws()) {
       const std::vector<double> row = convergence_row(c.shape.map, law);
       print_row(label(*law), row);
@@ -190,8 +193,8 @@ TEST(MembraneValidation, InflatedSphereTractionConvergesInNB) {
       const Matrix3Xd f = mem.traction(x);
       double err = 0;
       for (int m = 0; m < f.cols(); ++m)
-        err = std::max(err, (f.col(m) - (2 * tau0 / a) * x.col(m).normalized()).norm() /
-                                (2 * tau0 / a));
+        err = std::max(err,
+                       (f.col(m) - (2 * tau0 / a) * x.col(m).normalized()).norm() / (2 * tau0 / a));
       row.push_back(err);
       if (curv.size() < row.size()) {
         const geometry::SurfaceGeometry g = geometry::compute_geometry(mesh, x);

@@ -15,7 +15,9 @@ using geometry::Mesh;
 using testing::all_laws;
 using testing::label;
 
-double inflation_tau0(const Law& law, double a) { return law.principal_tension(a, a); }
+double inflation_tau0(const Law& law, double a) {
+  return law.principal_tension(a, a);
+}
 
 TEST(MembraneSurface, InflatedSphereTensionAndTraction) {
   const Mesh mesh(6, 14);
@@ -39,8 +41,9 @@ TEST(MembraneSurface, InflatedSphereTensionAndTraction) {
         const Vector3d exact = (2.0 * tau0 / a) * x.col(m).normalized();
         f_err = std::max(f_err, (f.col(m) - exact).norm() / exact.norm());
       }
-      std::printf("%-26s alpha=%.1f tau0=%.6f max|tau - tau0 P|/tau0=%.1e max|f-f_exact|/|f|=%.1e\n",
-                  label(*law).c_str(), a, tau0, tau_err, f_err);
+      std::printf(
+          "%-26s alpha=%.1f tau0=%.6f max|tau - tau0 P|/tau0=%.1e max|f-f_exact|/|f|=%.1e\n",
+          label(*law).c_str(), a, tau0, tau_err, f_err);
       EXPECT_LT(tau_err, 1e-12) << label(*law);
       // Limited by the discrete sphere's curvature; measured 1.9e-5 at NB=14 (every law).
       EXPECT_LT(f_err, 5e-5) << label(*law);
@@ -73,7 +76,8 @@ TEST(MembraneSurface, RigidMotionIsStressFreeAndTractionRotates) {
 TEST(MembraneSurface, TractionIsEnergyVariation) {
   // dE/deps (central difference of the Gauss-quadrature energy) = INT f.dx dS.
   const Mesh mesh(6, 14);
-  const Matrix3Xd x = geometry::map_points(mesh.reference(), geometry::ellipsoid_map(1.2, 0.9, 1 / 1.08));
+  const Matrix3Xd x =
+      geometry::map_points(mesh.reference(), geometry::ellipsoid_map(1.2, 0.9, 1 / 1.08));
   for (unsigned seed : {1u, 2u}) {
     const Matrix3Xd dx = testing::smooth_perturbation(mesh.reference(), seed);
     for (const auto& law : all_laws()) {
