@@ -1,0 +1,128 @@
+// capflow/stokes/boundary_integral: single- and double-layer Stokes operators on a surface in
+// the spectral boundary element representation (method.md sections 2 and 4).
+//
+// Operators (kernels in stokes/kernels.h, r = x - x0, no 1/(8 pi) factors):
+//   single layer   SL[f](x0) = INT S(x0,x).f(x) dS(x)
+//   double layer   DL[u](x0) = INT T(x0,x).(u(x) - u(x0)).n(x) dS(x)     (x0 a node)
+// so that for lambda = 1: u = u_inf - SL[f] / (8 pi Ca), and for lambda != 1 the principal
+// value is PV INT u.T.n dS = DL[u](x0) - 4 pi u(x0).
+// x, f, u are nodal values (3 x mesh.num_local()) interpolated element-wise (paper eq. 15);
+// n is the exact unit normal of that interpolant, dS = |x_xi x x_eta| dxi deta.
+//
+// Quadrature, per target x0 and element E:
+//  * own elements (x0 is a node of E at parameters p0 = (xi0, eta0), one entry per element of
+//    the node's coincidence class: 1, 2, 3 or 4): [-1,1]^2 is split by the perpendiculars from
+//    p0 to the 4 edges into right triangles (8 interior, 4 on an edge, 2 at a corner); in each,
+//    the edge coordinate is s = d sinh(tau) (d = distance from p0 to that edge) with
+//    `n_edge` Gauss points in tau, and the ray p0 -> edge point has `n_radial` Gauss points in
+//    the fraction u (polar Jacobian u d ds du cancels 1/r; Muldowney & Higdon 1995).
+//    Points and weights depend only on p0, i.e. on the node's (i, j) in the element, so these
+//    rules and the Lagrange weights (1-D bases and derivatives) at their points are
+//    precomputed once per mesh in this object, for the (i, j) up to the 8 symmetries of the
+//    square (the element's nodal data are permuted instead).
+//  * near elements (nearest point p* of E to x0 at distance h < near_factor * sqrt(area(E))):
+//    p* by Newton (clipped to the square), then the same perpendicular/sinh split around p*
+//    with a radial sinh map u = (h/(c l)) sinh(sigma) (c = sqrt|x_xi||x_eta| at p*, l = ray
+//    length), `n_edge_near` x `n_radial_near` points per triangle. Recomputed per call.
+//  * far elements: nq_far x nq_far Gauss-Legendre.
+// For every point of a special rule, positions, tangents and the density come from one
+// dense product (element data, NB x 6NB) x (1-D bases, NB x npts) per element.
+//
+// Threading: every apply runs an OpenMP loop over targets (omp_get_max_threads threads; the
+// caller limits with omp_set_num_threads). Objects are immutable after construction and
+// may be used from several threads; each call allocates its own scratch once per thread.
+// Failure modes: wrong matrix sizes or target indices throw std::invalid_argument.
+#pragma once
+
+#include <Eigen/Dense>
+#include <vector>
+
+#include "geometry/mesh.h"
+
+namespace capflow::stokes {
+
+using Eigen::Matrix3Xd;
+using Eigen::MatrixXd;
+
+struct QuadratureOptions {
+  int nq_far = 0;         // Gauss-Legendre per direction on far elements; 0 -> nb + 3
+  // Defaults measured on the unit sphere (NE=6/10/14, NB=12) to reach 1e-8 in INT S.n dS at
+  // every node type; the edge direction of own elements and the radial direction of near
+  // elements are the ones that need the extra points.
+  int n_edge = 0;         // own element: points along the edge coordinate; 0 -> 2 nb
+  int n_radial = 0;       // own element: points along each ray; 0 -> nb + 2
+  int n_edge_near = 0;    // near elements: along the edge; 0 -> nb + 2
+  int n_radial_near = 0;  // near elements: along each ray; 0 -> 2 nb - 4
+  double near_factor = 0.5;  // near when dist(x0, E) < near_factor * sqrt(area(E))
+};
+
+// Counts of the last call (kernel evaluations = source points x targets).
+struct OperatorStats {
+  long targets = 0;
+  long far_pairs = 0;      // far Gauss points summed
+  long own_pairs = 0;      // own-element polar points
+  long near_pairs = 0;     // near-singular points
+  long near_elements = 0;  // (target, element) pairs treated as near
+  long pairs() const { return far_pairs + own_pairs + near_pairs; }
+};
+
+class BoundaryOperators {
+ public:
+  BoundaryOperators(const geometry::Mesh& mesh, QuadratureOptions options = {});
+
+  const geometry::Mesh& mesh() const { return mesh_; }
+  const QuadratureOptions& options() const { return opt_; }  // with the defaults resolved
+  const OperatorStats& last_stats() const { return stats_; }  // not thread-safe; diagnostics
+
+  // SL[f] at every local node (3 x num_local; coincident nodes get the same value, computed
+  // once per coincidence class).
+  Matrix3Xd single_layer(const Matrix3Xd& x, const Matrix3Xd& f) const;
+  // SL[f] at the listed local nodes only: out.col(k) = SL[f](x.col(targets[k])).
+  void single_layer(const Matrix3Xd& x, const Matrix3Xd& f, const std::vector<int>& targets,
+                    Matrix3Xd& out) const;
+  // SL[f] at arbitrary points (on, near or off the surface): every element is near or far.
+  Matrix3Xd single_layer_at(const Matrix3Xd& x, const Matrix3Xd& f,
+                            const Matrix3Xd& points) const;
+
+  // DL[u] at every local node / at the listed local nodes.
+  Matrix3Xd double_layer(const Matrix3Xd& x, const Matrix3Xd& u) const;
+  void double_layer(const Matrix3Xd& x, const Matrix3Xd& u, const std::vector<int>& targets,
+                    Matrix3Xd& out) const;
+
+  // Identity checks with the exact normal n of the interpolated surface (no nodal density):
+  //   INT S.n dS at the listed nodes (3 x targets), and
+  //   INT T_ijk n_k dS (column k holds the 3x3 matrix, column-major, 9 x targets).
+  Matrix3Xd single_layer_normal(const Matrix3Xd& x, const std::vector<int>& targets) const;
+  MatrixXd double_layer_normal(const Matrix3Xd& x, const std::vector<int>& targets) const;
+
+  // Plain nq x nq Gauss-Legendre on every element, at arbitrary points (accurate only for
+  // points well off the surface).
+  static Matrix3Xd single_layer_gauss(const geometry::Mesh& mesh, const Matrix3Xd& x,
+                                      const Matrix3Xd& f, const Matrix3Xd& points, int nq);
+
+  // Number of precomputed own-element rules and their total points (for memory reports).
+  int own_rule_count() const { return static_cast<int>(rules_.size()); }
+  long own_rule_points() const;
+
+  enum class Mode { Single, SingleNormal, Double, DoubleNormal };
+
+  struct Rule {  // points in the canonical orientation of the square
+    std::vector<double> s, t, w;
+    MatrixXd ls, dls, lt, dlt;  // nb x npts: 1-D Lagrange bases (and derivatives) at s, t
+  };
+
+ private:
+  template <Mode M>
+  void apply(const Matrix3Xd& x, const Matrix3Xd* dens, const std::vector<int>* node_targets,
+             const Matrix3Xd* point_targets, MatrixXd& out) const;
+
+  const geometry::Mesh& mesh_;
+  QuadratureOptions opt_;
+  std::vector<Rule> rules_;        // one per canonical node (i <= j <= (nb-1)/2)
+  std::vector<int> canon_rule_;    // (i + nb j) -> rule index
+  std::vector<int> canon_sym_;     // (i + nb j) -> symmetry bits: 1 flip s, 2 flip t, 4 swap
+  std::vector<std::vector<int>> canon_perm_;  // per symmetry (8): canonical (a + nb b) -> actual
+  mutable OperatorStats stats_;
+};
+
+}  // namespace capflow::stokes
