@@ -1,0 +1,160 @@
+#include "output/mp4_writer.h"
+
+#include <stdexcept>
+
+extern "C" {
+#include <libavcodec/avcodec.h>
+#include <libavformat/avformat.h>
+#include <libavutil/imgutils.h>
+#include <libavutil/opt.h>
+#include <libswscale/swscale.h>
+}
+
+namespace capflow::output {
+namespace {
+std::string av_err(int e) {
+  char buf[AV_ERROR_MAX_STRING_SIZE] = {0};
+  av_strerror(e, buf, sizeof buf);
+  return buf;
+}
+void check(int e, const char* what) {
+  if (e < 0) throw std::runtime_error(std::string("mp4: ") + what + ": " + av_err(e));
+}
+}  // namespace
+
+struct Mp4Writer::Impl {
+  Mp4Options opt;
+  std::string path;
+  AVFormatContext* fmt = nullptr;
+  AVCodecContext* enc = nullptr;
+  AVStream* st = nullptr;
+  AVFrame* frame = nullptr;
+  AVPacket* pkt = nullptr;
+  SwsContext* sws = nullptr;
+  bool open = false;
+  int since_flush = 0;
+
+  void drain(bool final_) {
+    for (;;) {
+      int r = avcodec_receive_packet(enc, pkt);
+      if (r == AVERROR(EAGAIN) || r == AVERROR_EOF) return;
+      check(r, "avcodec_receive_packet");
+      pkt->duration = 1;  // codec time base (1/fps)
+      av_packet_rescale_ts(pkt, enc->time_base, st->time_base);
+      pkt->stream_index = st->index;
+      check(av_write_frame(fmt, pkt), "av_write_frame");
+      av_packet_unref(pkt);
+      (void)final_;
+    }
+  }
+  void release() {
+    sws_freeContext(sws);
+    sws = nullptr;
+    av_frame_free(&frame);
+    av_packet_free(&pkt);
+    avcodec_free_context(&enc);
+    if (fmt) {
+      if (fmt->pb) avio_closep(&fmt->pb);
+      avformat_free_context(fmt);
+      fmt = nullptr;
+    }
+  }
+};
+
+Mp4Writer::Mp4Writer(const std::string& path, const Mp4Options& o) : impl_(new Impl) {
+  if (o.width <= 0 || o.height <= 0 || o.width % 2 || o.height % 2)
+    throw std::invalid_argument("mp4: width and height must be positive and even");
+  if (o.fps < 1 || o.crf < 0 || o.crf > 51 || o.flush_every < 1)
+    throw std::invalid_argument("mp4: need fps >= 1, crf in [0,51], flush_every >= 1");
+  Impl& m = *impl_;
+  m.opt = o;
+  m.path = path;
+  try {
+    check(avformat_alloc_output_context2(&m.fmt, nullptr, "mp4", path.c_str()), "output context");
+    const AVCodec* codec = avcodec_find_encoder_by_name("libx264");
+    if (!codec) throw std::runtime_error("mp4: libx264 encoder not available in libavcodec");
+    m.enc = avcodec_alloc_context3(codec);
+    m.enc->width = o.width;
+    m.enc->height = o.height;
+    m.enc->time_base = AVRational{1, o.fps};
+    m.enc->framerate = AVRational{o.fps, 1};
+    m.enc->pix_fmt = AV_PIX_FMT_YUV420P;
+    m.enc->gop_size = o.fps;
+    m.enc->max_b_frames = 0;
+    if (m.fmt->oformat->flags & AVFMT_GLOBALHEADER) m.enc->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
+    av_opt_set(m.enc->priv_data, "preset", o.preset.c_str(), 0);
+    av_opt_set(m.enc->priv_data, "tune", "zerolatency", 0);
+    av_opt_set(m.enc->priv_data, "crf", std::to_string(o.crf).c_str(), 0);
+    check(avcodec_open2(m.enc, codec, nullptr), "open libx264");
+    m.st = avformat_new_stream(m.fmt, nullptr);
+    if (!m.st) throw std::runtime_error("mp4: cannot add stream");
+    m.st->time_base = m.enc->time_base;
+    check(avcodec_parameters_from_context(m.st->codecpar, m.enc), "codec parameters");
+    check(avio_open(&m.fmt->pb, path.c_str(), AVIO_FLAG_WRITE), ("open " + path).c_str());
+    AVDictionary* mux = nullptr;
+    av_dict_set(&mux, "movflags", "frag_custom+empty_moov+default_base_moof", 0);
+    const int r = avformat_write_header(m.fmt, &mux);
+    av_dict_free(&mux);
+    check(r, "write header");
+    avio_flush(m.fmt->pb);
+    m.frame = av_frame_alloc();
+    m.frame->format = AV_PIX_FMT_YUV420P;
+    m.frame->width = o.width;
+    m.frame->height = o.height;
+    check(av_frame_get_buffer(m.frame, 0), "frame buffer");
+    m.pkt = av_packet_alloc();
+    m.sws = sws_getContext(o.width, o.height, AV_PIX_FMT_RGBA, o.width, o.height,
+                           AV_PIX_FMT_YUV420P, SWS_BILINEAR, nullptr, nullptr, nullptr);
+    if (!m.sws) throw std::runtime_error("mp4: sws_getContext failed");
+    m.open = true;
+  } catch (...) {
+    m.release();
+    throw;
+  }
+}
+
+Mp4Writer::~Mp4Writer() {
+  try {
+    finish();
+  } catch (...) {
+  }
+}
+
+void Mp4Writer::add_frame(const uint8_t* rgba, int stride) {
+  Impl& m = *impl_;
+  if (!m.open) throw std::logic_error("mp4: add_frame after finish");
+  check(av_frame_make_writable(m.frame), "frame writable");
+  const uint8_t* src[1] = {rgba};
+  const int src_stride[1] = {stride ? stride : m.opt.width * 4};
+  sws_scale(m.sws, src, src_stride, 0, m.opt.height, m.frame->data, m.frame->linesize);
+  m.frame->pts = frames_;
+  check(avcodec_send_frame(m.enc, m.frame), "avcodec_send_frame");
+  m.drain(false);
+  ++frames_;
+  if (++m.since_flush >= m.opt.flush_every) flush();
+}
+
+void Mp4Writer::flush() {
+  Impl& m = *impl_;
+  if (!m.open || m.since_flush == 0) return;
+  check(av_write_frame(m.fmt, nullptr), "flush fragment");  // frag_custom: cut a fragment
+  avio_flush(m.fmt->pb);
+  m.since_flush = 0;
+}
+
+void Mp4Writer::finish() {
+  Impl& m = *impl_;
+  if (!m.open) return;
+  m.open = false;
+  try {
+    check(avcodec_send_frame(m.enc, nullptr), "flush encoder");
+    m.drain(true);
+    check(av_write_trailer(m.fmt), "write trailer");
+  } catch (...) {
+    m.release();
+    throw;
+  }
+  m.release();
+}
+
+}  // namespace capflow::output

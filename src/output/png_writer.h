@@ -1,0 +1,19 @@
+// capflow/output/png_writer: PNG files via stb_image_write (Debian's libstb). No GL, no
+// numerics. Pixels are 8-bit RGBA, rows top-down, `stride` bytes apart (0: width*4).
+// Failure: std::runtime_error naming the path.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace capflow::output {
+
+void write_png(const std::string& path, int width, int height, const uint8_t* rgba,
+               int stride = 0);
+
+// Writes to "<path>.tmp" and renames it over path: readers never see a half-written file
+// (used for the live preview image).
+void write_png_atomic(const std::string& path, int width, int height, const uint8_t* rgba,
+                      int stride = 0);
+
+}  // namespace capflow::output

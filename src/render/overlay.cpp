@@ -1,0 +1,121 @@
+#include "render/overlay.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <mutex>
+
+#include "imgui.h"
+#include "imgui_impl_opengl3.h"
+#include "render/gl.h"
+
+namespace capflow::render {
+namespace {
+std::mutex& imgui_mutex() {
+  static std::mutex mu;
+  return mu;
+}
+ImU32 to_u32(const std::array<float, 3>& c) {
+  auto b = [](float v) { return static_cast<int>(std::lround(std::clamp(v, 0.f, 1.f) * 255)); };
+  return IM_COL32(b(c[0]), b(c[1]), b(c[2]), 255);
+}
+}  // namespace
+
+ColorbarGeometry colorbar_geometry(int width, int height) {
+  const float w = std::max(14.f, std::round(0.018f * width));
+  const float label_room = std::max(64.f, std::round(0.065f * width));
+  ColorbarGeometry g;
+  g.x1 = std::round(width - label_room);
+  g.x0 = g.x1 - w;
+  g.y0 = std::round(0.22f * height);
+  g.y1 = std::round(0.82f * height);
+  return g;
+}
+
+Overlay::Overlay(int width, int height) : width_(width), height_(height) {
+  std::lock_guard<std::mutex> lock(imgui_mutex());
+  ImGuiContext* prev = ImGui::GetCurrentContext();
+  ctx_ = ImGui::CreateContext();
+  ImGui::SetCurrentContext(ctx_);
+  ImGuiIO& io = ImGui::GetIO();
+  io.IniFilename = nullptr;
+  io.LogFilename = nullptr;
+  io.DisplaySize = ImVec2(static_cast<float>(width), static_cast<float>(height));
+  font_px_ = std::max(13.f, std::round(18.f * height / 720.f));
+  // A scalable system font when present (fonts-dejavu-core), else ImGui's built-in one.
+  const char* ttf = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
+  if (::access(ttf, R_OK) == 0) font_ = io.Fonts->AddFontFromFileTTF(ttf, font_px_);
+  if (!font_) {
+    ImFontConfig cfg;
+    cfg.SizePixels = 13.f * std::max(1.f, std::round(font_px_ / 13.f));
+    font_px_ = cfg.SizePixels;
+    font_ = io.Fonts->AddFontDefault(&cfg);
+  }
+  const bool ok = ImGui_ImplOpenGL3_Init("#version 330 core");
+  ImGui::SetCurrentContext(prev);
+  if (!ok) throw std::runtime_error("overlay: ImGui_ImplOpenGL3_Init failed");
+}
+
+Overlay::~Overlay() {
+  std::lock_guard<std::mutex> lock(imgui_mutex());
+  ImGuiContext* prev = ImGui::GetCurrentContext();
+  ImGui::SetCurrentContext(ctx_);
+  ImGui_ImplOpenGL3_Shutdown();
+  ImGui::DestroyContext(ctx_);
+  ImGui::SetCurrentContext(prev == ctx_ ? nullptr : prev);
+}
+
+void Overlay::draw(const OverlayContent& c) {
+  if (!(c.colorbar && c.colormap) && !c.text) return;
+  std::lock_guard<std::mutex> lock(imgui_mutex());
+  ImGuiContext* prev = ImGui::GetCurrentContext();
+  ImGui::SetCurrentContext(ctx_);
+  ImGuiIO& io = ImGui::GetIO();
+  io.DisplaySize = ImVec2(static_cast<float>(width_), static_cast<float>(height_));
+  io.DeltaTime = 1.f / 60.f;
+  ImGui_ImplOpenGL3_NewFrame();  // required every frame (creates device objects lazily)
+  ImGui::NewFrame();
+  ImDrawList* dl = ImGui::GetForegroundDrawList();
+  const ImU32 ink = IM_COL32(20, 20, 20, 255);
+  const float fs = font_px_;
+
+  if (c.colorbar && c.colormap) {
+    const ColorbarGeometry g = colorbar_geometry(width_, height_);
+    const int segments = 256;
+    const float h = g.y1 - g.y0;
+    for (int k = 0; k < segments; ++k) {
+      const float ya = g.y1 - h * k / segments, yb = g.y1 - h * (k + 1) / segments;
+      const ImU32 ca = to_u32(c.colormap->at(static_cast<double>(k) / segments));
+      const ImU32 cb = to_u32(c.colormap->at(static_cast<double>(k + 1) / segments));
+      // upper-left, upper-right, bottom-right, bottom-left
+      dl->AddRectFilledMultiColor(ImVec2(g.x0, yb), ImVec2(g.x1, ya), cb, cb, ca, ca);
+    }
+    dl->AddRect(ImVec2(g.x0 - 1, g.y0 - 1), ImVec2(g.x1 + 1, g.y1 + 1), ink, 0.f, 0, 1.f);
+    const int ticks = 5;
+    for (int k = 0; k < ticks; ++k) {
+      const double v = c.vmin + (c.vmax - c.vmin) * k / (ticks - 1);
+      const float y = g.y1 - h * k / (ticks - 1);
+      dl->AddLine(ImVec2(g.x1 + 1, y), ImVec2(g.x1 + 6, y), ink, 1.f);
+      char buf[32];
+      std::snprintf(buf, sizeof buf, "%.3g", std::abs(v) < 1e-12 * std::abs(c.vmax - c.vmin) ? 0.0 : v);
+      dl->AddText(font_, fs, ImVec2(g.x1 + 9, y - 0.5f * fs), ink, buf);
+    }
+    const ImVec2 ts = font_->CalcTextSizeA(fs, 1e9f, 0.f, c.title.c_str());
+    const float tx = std::max(4.f, std::min(g.x0, width_ - 6.f - ts.x));
+    dl->AddText(font_, fs, ImVec2(tx, g.y0 - 1.9f * fs), ink, c.title.c_str());
+  }
+  if (c.text) {
+    float y = 0.6f * fs;
+    for (const auto& line : c.lines) {
+      dl->AddText(font_, fs, ImVec2(0.8f * fs, y), ink, line.c_str());
+      y += 1.3f * fs;
+    }
+  }
+  ImGui::Render();
+  ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+  ImGui::SetCurrentContext(prev);
+}
+
+}  // namespace capflow::render

@@ -1,0 +1,166 @@
+#include "render/render_thread.h"
+
+#include <sys/stat.h>
+
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <future>
+
+#include "output/mp4_writer.h"
+#include "output/png_writer.h"
+
+namespace capflow::render {
+namespace {
+volatile std::sig_atomic_t g_stop = 0;
+extern "C" void on_stop_signal(int) { g_stop = 1; }
+double ms_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+}  // namespace
+
+void install_stop_signal_handlers() {
+  struct sigaction sa {};
+  sa.sa_handler = on_stop_signal;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+}
+bool stop_requested() { return g_stop != 0; }
+
+RenderThread::~RenderThread() { stop(); }
+
+void RenderThread::start(const RenderOptions& options, LogFn log) {
+  if (thread_.joinable()) throw std::logic_error("RenderThread: already started");
+  std::string err;
+  if (!options.IsValid(&err)) throw std::invalid_argument("render options: " + err);
+  opt_ = options;
+  log_ = std::move(log);
+  error_.clear();
+  stats_ = RenderStats{};
+  queue_ = std::make_unique<SnapshotQueue>(static_cast<size_t>(opt_.queue_capacity));
+  std::promise<void> ready;
+  std::future<void> ready_f = ready.get_future();
+  thread_ = std::thread([this, p = std::move(ready)]() mutable {
+    // The GL context, the writers and everything using them live in this thread only.
+    std::unique_ptr<Renderer> renderer;
+    std::unique_ptr<output::Mp4Writer> mp4;
+    try {
+      renderer = std::make_unique<Renderer>(opt_);
+      {
+        std::lock_guard<std::mutex> l(mu_);
+        info_ = renderer->context_info();
+      }
+      if (log_) log_(renderer->context_info().summary());
+      if (opt_.png) ::mkdir(opt_.png_dir.c_str(), 0777);
+      if (opt_.mp4) {
+        output::Mp4Options mo;
+        mo.width = opt_.width;
+        mo.height = opt_.height;
+        mo.fps = opt_.fps;
+        mo.crf = opt_.crf;
+        mo.preset = opt_.preset;
+        mo.flush_every = opt_.flush_every;
+        mp4 = std::make_unique<output::Mp4Writer>(opt_.mp4_path, mo);
+      }
+    } catch (...) {
+      p.set_exception(std::current_exception());
+      return;
+    }
+    p.set_value();
+    Image img;
+    long frame_no = 0;
+    try {
+      while (auto item = queue_->pop()) {
+        FrameTimings t;
+        renderer->render(item->snapshot, &img, &t);
+        if (item->lane == SnapshotQueue::Lane::Preview) {
+          if (opt_.preview)
+            output::write_png_atomic(opt_.preview_path, img.width, img.height, img.rgba.data());
+          std::lock_guard<std::mutex> l(mu_);
+          ++stats_.previews;
+          continue;
+        }
+        double png_ms = 0, enc_ms = 0;
+        if (opt_.png) {
+          auto t0 = std::chrono::steady_clock::now();
+          char name[64];
+          std::snprintf(name, sizeof name, "/frame_%06ld.png", frame_no);
+          output::write_png(opt_.png_dir + name, img.width, img.height, img.rgba.data());
+          png_ms = ms_since(t0);
+        }
+        if (mp4) {
+          auto t0 = std::chrono::steady_clock::now();
+          mp4->add_frame(img.rgba.data());
+          enc_ms = ms_since(t0);
+        }
+        if (opt_.preview)
+          output::write_png_atomic(opt_.preview_path, img.width, img.height, img.rgba.data());
+        ++frame_no;
+        std::lock_guard<std::mutex> l(mu_);
+        ++stats_.movie_frames;
+        stats_.total.upsample_ms += t.upsample_ms;
+        stats_.total.draw_ms += t.draw_ms;
+        stats_.total.overlay_ms += t.overlay_ms;
+        stats_.total.readback_ms += t.readback_ms;
+        stats_.png_ms += png_ms;
+        stats_.encode_ms += enc_ms;
+      }
+      if (mp4) mp4->finish();
+    } catch (const std::exception& e) {
+      fail(e.what());
+      try {
+        if (mp4) mp4->finish();
+      } catch (...) {
+      }
+    }
+  });
+  try {
+    ready_f.get();
+  } catch (...) {
+    thread_.join();
+    throw;
+  }
+}
+
+void RenderThread::fail(const std::string& msg) {
+  {
+    std::lock_guard<std::mutex> l(mu_);
+    error_ = msg;
+  }
+  if (log_) log_("render: error: " + msg);
+  queue_->close();  // producers stop blocking and see false
+}
+
+bool RenderThread::submit_frame(Snapshot s) {
+  return queue_ && queue_->push_frame(std::move(s));
+}
+
+bool RenderThread::offer_preview(Snapshot s) {
+  return queue_ && queue_->offer_preview(std::move(s));
+}
+
+RenderStats RenderThread::stop() {
+  if (thread_.joinable()) {
+    queue_->close();
+    thread_.join();
+  }
+  std::lock_guard<std::mutex> l(mu_);
+  if (queue_) {
+    stats_.producer_waits = queue_->producer_waits();
+    stats_.previews_replaced = queue_->previews_replaced();
+  }
+  return stats_;
+}
+
+std::string RenderThread::error() const {
+  std::lock_guard<std::mutex> l(mu_);
+  return error_;
+}
+
+ContextInfo RenderThread::context_info() const {
+  std::lock_guard<std::mutex> l(mu_);
+  return info_;
+}
+
+}  // namespace capflow::render

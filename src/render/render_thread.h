@@ -1,0 +1,80 @@
+// capflow/render/render_thread: the renderer thread driver.
+//
+//   RenderThread rt;
+//   rt.start(options, log);            // spawns the thread; returns once its GL context,
+//                                      // shaders and writers are ready (or throws their error)
+//   rt.submit_frame(snapshot);         // movie frame: BLOCKS while `queue_capacity` frames wait
+//                                      // (back-pressure: frames are never dropped)
+//   rt.offer_preview(snapshot);        // live preview: never blocks, only the latest is kept
+//   RenderStats st = rt.stop();        // close the queue, render every queued frame, finish
+//                                      // the MP4 (trailer), join. Idempotent; also run by ~.
+//
+// Per movie frame the thread renders (Renderer), writes <png_dir>/frame_NNNNNN.png when
+// options.png (NNNNNN = running count from 0) and appends to the MP4 when options.mp4. A
+// preview is rendered and written atomically to options.preview_path. If rendering or
+// writing fails the thread records the error, closes the queue (producers see false) and
+// finishes the MP4; error() returns the message.
+//
+// Signals: install_stop_signal_handlers() makes SIGINT/SIGTERM set a flag that
+// stop_requested() reports; the simulation loop polls it and calls stop(), so a signalled
+// run still ends with a finalised movie. (SIGKILL cannot be caught: the fragmented MP4
+// keeps the frames written before the last fragment flush.)
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+
+#include "render/options.h"
+#include "render/renderer.h"
+#include "render/snapshot_queue.h"
+
+namespace capflow::render {
+
+struct RenderStats {
+  long movie_frames = 0;     // rendered and written movie frames
+  long previews = 0;         // rendered previews
+  long producer_waits = 0;   // times submit_frame() blocked (back-pressure)
+  long previews_replaced = 0;  // previews superseded before being rendered
+  FrameTimings total;        // summed stage times of movie frames (ms)
+  double png_ms = 0, encode_ms = 0;  // summed write times (ms)
+};
+
+using LogFn = std::function<void(const std::string&)>;
+
+class RenderThread {
+ public:
+  RenderThread() = default;
+  ~RenderThread();
+  RenderThread(const RenderThread&) = delete;
+  RenderThread& operator=(const RenderThread&) = delete;
+
+  void start(const RenderOptions& options, LogFn log = nullptr);
+  bool submit_frame(Snapshot s);
+  bool offer_preview(Snapshot s);
+  RenderStats stop();
+
+  bool running() const { return thread_.joinable(); }
+  std::string error() const;
+  ContextInfo context_info() const;
+
+ private:
+  void run();
+  void fail(const std::string& msg);
+  RenderOptions opt_;
+  LogFn log_;
+  std::unique_ptr<SnapshotQueue> queue_;
+  std::thread thread_;
+  mutable std::mutex mu_;  // guards error_, info_, stats_
+  std::string error_;
+  ContextInfo info_;
+  RenderStats stats_;
+};
+
+void install_stop_signal_handlers();  // SIGINT, SIGTERM -> stop_requested() = true
+bool stop_requested();
+
+}  // namespace capflow::render

@@ -1,0 +1,288 @@
+#include "render/renderer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <stdexcept>
+
+#include "render/data_dir.h"
+#include "render/gl.h"
+#include "render/overlay.h"
+
+namespace capflow::render {
+namespace {
+double ms_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+unsigned compile(GLenum type, const std::string& file) {
+  const std::string src = read_data_file(file);
+  const unsigned sh = glCreateShader(type);
+  const char* p = src.c_str();
+  glShaderSource(sh, 1, &p, nullptr);
+  glCompileShader(sh);
+  GLint ok = 0;
+  glGetShaderiv(sh, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    char log[2048] = {0};
+    glGetShaderInfoLog(sh, sizeof log, nullptr, log);
+    glDeleteShader(sh);
+    throw std::runtime_error("shader " + file + " does not compile: " + log);
+  }
+  return sh;
+}
+
+unsigned program(const std::string& vert, const std::string& frag) {
+  const unsigned vs = compile(GL_VERTEX_SHADER, vert), fs = compile(GL_FRAGMENT_SHADER, frag);
+  const unsigned p = glCreateProgram();
+  glAttachShader(p, vs);
+  glAttachShader(p, fs);
+  glLinkProgram(p);
+  glDeleteShader(vs);
+  glDeleteShader(fs);
+  GLint ok = 0;
+  glGetProgramiv(p, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    char log[2048] = {0};
+    glGetProgramInfoLog(p, sizeof log, nullptr, log);
+    throw std::runtime_error("shaders " + vert + " + " + frag + " do not link: " + log);
+  }
+  return p;
+}
+
+std::string fmt(const char* f, double v) {
+  char b[64];
+  std::snprintf(b, sizeof b, f, v);
+  return b;
+}
+}  // namespace
+
+Renderer::Renderer(const RenderOptions& options) : opt_(options) {
+  std::string err;
+  if (!opt_.IsValid(&err)) throw std::invalid_argument("render options: " + err);
+  colormap_ = Colormap::load(opt_.colormap);  // before the context: fail early on assets
+  context_ = GlContext::create(opt_.backend);
+  surface_prog_ = program("shaders/surface.vert", "shaders/surface.frag");
+  lines_prog_ = program("shaders/lines.vert", "shaders/lines.frag");
+
+  glGenVertexArrays(1, &vao_);
+  glGenBuffers(3, vbo_);
+  glGenBuffers(1, &ebo_tri_);
+  glGenBuffers(1, &ebo_lines_);
+
+  const auto& tab = colormap_.table();
+  std::vector<float> texels;
+  for (const auto& c : tab) texels.insert(texels.end(), c.begin(), c.end());
+  glGenTextures(1, &cmap_tex_);
+  glBindTexture(GL_TEXTURE_2D, cmap_tex_);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB32F, static_cast<GLsizei>(tab.size()), 1, 0, GL_RGB,
+               GL_FLOAT, texels.data());
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+
+  create_framebuffers();
+  overlay_ = std::make_unique<Overlay>(opt_.width, opt_.height);
+}
+
+Renderer::~Renderer() {
+  overlay_.reset();
+  if (!context_) return;
+  glDeleteProgram(surface_prog_);
+  glDeleteProgram(lines_prog_);
+  glDeleteVertexArrays(1, &vao_);
+  glDeleteBuffers(3, vbo_);
+  glDeleteBuffers(1, &ebo_tri_);
+  glDeleteBuffers(1, &ebo_lines_);
+  glDeleteTextures(1, &cmap_tex_);
+  if (msaa_fbo_) {
+    glDeleteFramebuffers(1, &msaa_fbo_);
+    glDeleteRenderbuffers(2, msaa_rb_);
+  }
+  glDeleteFramebuffers(1, &fbo_);
+  glDeleteRenderbuffers(2, rb_);
+}
+
+void Renderer::create_framebuffers() {
+  const int w = opt_.width, h = opt_.height;
+  glGenFramebuffers(1, &fbo_);
+  glGenRenderbuffers(2, rb_);
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
+  glBindRenderbuffer(GL_RENDERBUFFER, rb_[0]);
+  glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, w, h);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, rb_[0]);
+  glBindRenderbuffer(GL_RENDERBUFFER, rb_[1]);
+  glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, w, h);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, rb_[1]);
+  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+    throw std::runtime_error("render: resolve framebuffer incomplete");
+  if (opt_.msaa > 1) {
+    glGenFramebuffers(1, &msaa_fbo_);
+    glGenRenderbuffers(2, msaa_rb_);
+    glBindFramebuffer(GL_FRAMEBUFFER, msaa_fbo_);
+    glBindRenderbuffer(GL_RENDERBUFFER, msaa_rb_[0]);
+    glRenderbufferStorageMultisample(GL_RENDERBUFFER, opt_.msaa, GL_RGBA8, w, h);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, msaa_rb_[0]);
+    glBindRenderbuffer(GL_RENDERBUFFER, msaa_rb_[1]);
+    glRenderbufferStorageMultisample(GL_RENDERBUFFER, opt_.msaa, GL_DEPTH_COMPONENT24, w, h);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, msaa_rb_[1]);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+      throw std::runtime_error("render: multisample framebuffer (" + std::to_string(opt_.msaa) +
+                               "x) incomplete; try msaa = 0");
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+void Renderer::render(const Snapshot& s, Image* out, FrameTimings* timings) {
+  FrameTimings t;
+  auto t0 = std::chrono::steady_clock::now();
+  if (!upsampler_ || s.nb != upsampler_nb_) {
+    upsampler_ = std::make_unique<Upsampler>(s.nb, opt_.subdivisions);
+    upsampler_nb_ = s.nb;
+  }
+  upsampler_->build(s, opt_.field, &mesh_);
+  t.upsample_ms = ms_since(t0);
+
+  // Colour range.
+  if (opt_.auto_range) {
+    double lo = mesh_.value_min, hi = mesh_.value_max;
+    if (colormap_.diverging()) {
+      const double m = std::max(std::abs(lo), std::abs(hi));
+      lo = -m;
+      hi = m;
+    }
+    if (!(hi - lo > 1e-12 * std::max(1.0, std::abs(hi)))) {
+      const double c = 0.5 * (lo + hi), d = std::max(0.5 * std::abs(c), 0.5);
+      lo = c - d;
+      hi = c + d;
+    }
+    vmin_ = lo;
+    vmax_ = hi;
+  } else {
+    vmin_ = opt_.range_min;
+    vmax_ = opt_.range_max;
+  }
+  camera_ = make_camera(opt_.camera, mesh_.bbox_min, mesh_.bbox_max,
+                        static_cast<double>(opt_.width) / opt_.height);
+
+  // Draw.
+  t0 = std::chrono::steady_clock::now();
+  glBindVertexArray(vao_);
+  const std::vector<float>* attr[3] = {&mesh_.position, &mesh_.normal, &mesh_.value};
+  const int comps[3] = {3, 3, 1};
+  for (int k = 0; k < 3; ++k) {
+    glBindBuffer(GL_ARRAY_BUFFER, vbo_[k]);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(attr[k]->size() * sizeof(float)),
+                 attr[k]->data(), GL_STREAM_DRAW);
+    glEnableVertexAttribArray(k);
+    glVertexAttribPointer(k, comps[k], GL_FLOAT, GL_FALSE, 0, nullptr);
+  }
+  if (uploaded_indices_ != mesh_.triangles.size()) {
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ebo_tri_);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER,
+                 static_cast<GLsizeiptr>(mesh_.triangles.size() * sizeof(uint32_t)),
+                 mesh_.triangles.data(), GL_STATIC_DRAW);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ebo_lines_);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER,
+                 static_cast<GLsizeiptr>(mesh_.lines.size() * sizeof(uint32_t)),
+                 mesh_.lines.data(), GL_STATIC_DRAW);
+    uploaded_indices_ = mesh_.triangles.size();
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, msaa_fbo_ ? msaa_fbo_ : fbo_);
+  glViewport(0, 0, opt_.width, opt_.height);
+  glDisable(GL_SCISSOR_TEST);
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LEQUAL);
+  glDepthMask(GL_TRUE);
+  glClearColor(opt_.background[0], opt_.background[1], opt_.background[2], 1.f);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+
+  glUseProgram(surface_prog_);
+  glUniformMatrix4fv(glGetUniformLocation(surface_prog_, "u_view"), 1, GL_FALSE, camera_.view.data());
+  glUniformMatrix4fv(glGetUniformLocation(surface_prog_, "u_proj"), 1, GL_FALSE, camera_.proj.data());
+  glUniform1f(glGetUniformLocation(surface_prog_, "u_colormap_size"),
+              static_cast<float>(colormap_.table().size()));
+  glUniform2f(glGetUniformLocation(surface_prog_, "u_range"), static_cast<float>(vmin_),
+              static_cast<float>(vmax_));
+  glUniform1i(glGetUniformLocation(surface_prog_, "u_plain"), opt_.field == ColorField::Plain);
+  glUniform3f(glGetUniformLocation(surface_prog_, "u_plain_color"), opt_.plain_color[0],
+              opt_.plain_color[1], opt_.plain_color[2]);
+  glUniform1i(glGetUniformLocation(surface_prog_, "u_ortho"), opt_.camera.orthographic);
+  glUniform1i(glGetUniformLocation(surface_prog_, "u_colormap"), 0);
+  glActiveTexture(GL_TEXTURE0);
+  glBindTexture(GL_TEXTURE_2D, cmap_tex_);
+  glEnable(GL_POLYGON_OFFSET_FILL);
+  glPolygonOffset(1.f, 1.f);
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ebo_tri_);
+  glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(mesh_.triangles.size()), GL_UNSIGNED_INT, nullptr);
+  glDisable(GL_POLYGON_OFFSET_FILL);
+
+  if (opt_.element_lines) {
+    glUseProgram(lines_prog_);
+    glUniformMatrix4fv(glGetUniformLocation(lines_prog_, "u_view"), 1, GL_FALSE, camera_.view.data());
+    glUniformMatrix4fv(glGetUniformLocation(lines_prog_, "u_proj"), 1, GL_FALSE, camera_.proj.data());
+    glUniform1f(glGetUniformLocation(lines_prog_, "u_depth_bias"), 2e-3f);
+    glUniform3f(glGetUniformLocation(lines_prog_, "u_color"), opt_.line_color[0],
+                opt_.line_color[1], opt_.line_color[2]);
+    glDisableVertexAttribArray(1);
+    glDisableVertexAttribArray(2);
+    glLineWidth(std::max(1.f, std::round(opt_.height / 720.f)));
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ebo_lines_);
+    glDrawElements(GL_LINES, static_cast<GLsizei>(mesh_.lines.size()), GL_UNSIGNED_INT, nullptr);
+  }
+  glBindVertexArray(0);
+  if (msaa_fbo_) {
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, msaa_fbo_);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo_);
+    glBlitFramebuffer(0, 0, opt_.width, opt_.height, 0, 0, opt_.width, opt_.height,
+                      GL_COLOR_BUFFER_BIT, GL_NEAREST);
+  }
+  glFinish();
+  t.draw_ms = ms_since(t0);
+
+  // Overlay.
+  t0 = std::chrono::steady_clock::now();
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
+  OverlayContent oc;
+  oc.colorbar = opt_.overlay_colorbar && opt_.field != ColorField::Plain;
+  oc.colormap = &colormap_;
+  oc.vmin = vmin_;
+  oc.vmax = vmax_;
+  oc.title = field_label(opt_.field);
+  oc.text = opt_.overlay_text;
+  if (oc.text) {
+    oc.lines = {fmt("t = %.4g", s.time), fmt("Ca = %.4g", s.ca), fmt("D = %.4f", s.diag.D),
+                "law: " + (s.law.empty() ? std::string("-") : s.law)};
+  }
+  overlay_->draw(oc);
+  glFinish();
+  t.overlay_ms = ms_since(t0);
+
+  // Readback (GL rows are bottom-up; Image rows are top-down).
+  t0 = std::chrono::steady_clock::now();
+  const size_t row = static_cast<size_t>(opt_.width) * 4;
+  readback_.resize(row * opt_.height);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
+  glReadBuffer(GL_COLOR_ATTACHMENT0);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, opt_.width, opt_.height, GL_RGBA, GL_UNSIGNED_BYTE, readback_.data());
+  out->width = opt_.width;
+  out->height = opt_.height;
+  out->rgba.resize(readback_.size());
+  for (int y = 0; y < opt_.height; ++y)
+    std::memcpy(&out->rgba[static_cast<size_t>(y) * row],
+                &readback_[static_cast<size_t>(opt_.height - 1 - y) * row], row);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  t.readback_ms = ms_since(t0);
+  if (const GLenum e = glGetError(); e != GL_NO_ERROR)
+    throw std::runtime_error("render: OpenGL error " + std::to_string(e));
+  if (timings) *timings = t;
+}
+
+}  // namespace capflow::render

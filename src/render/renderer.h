@@ -1,0 +1,79 @@
+// capflow/render/renderer: one Snapshot -> one RGBA image, off-screen.
+//
+// Pipeline per frame (each stage timed in FrameTimings, milliseconds, GL stages end with
+// glFinish so the figures are wall-clock costs):
+//   upsample  : Upsampler (CPU) -> triangles, smooth normals, field values
+//   draw      : upload, Blinn-Phong surface (+ element edges) into a multisampled FBO,
+//               resolve (blit) into a single-sample FBO
+//   overlay   : Dear ImGui colour bar and text into the resolved FBO
+//   readback  : glReadPixels and vertical flip into Image (rows top-down)
+// Colour range: options.auto_range -> [min, max] of the upsampled field (symmetric [-m, m],
+// m = max|v|, for diverging maps); a constant field c gets [c - d, c + d], d = max(|c|/2, 0.5),
+// so it maps to the middle of the map. Otherwise [range_min, range_max]. Values outside clamp.
+//
+// Ownership/threads: the constructor creates the GL context (GlContext::create) in the calling
+// thread; every later call must come from that same thread. Throws std::runtime_error on
+// context, shader, asset or framebuffer failure (messages name the file / GL status).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "render/camera.h"
+#include "render/colormap.h"
+#include "render/context.h"
+#include "render/options.h"
+#include "render/snapshot.h"
+#include "render/upsample.h"
+
+namespace capflow::render {
+
+struct Image {
+  int width = 0, height = 0;
+  std::vector<uint8_t> rgba;  // width*height*4, row 0 = top
+  const uint8_t* pixel(int x, int y) const { return &rgba[(static_cast<size_t>(y) * width + x) * 4]; }
+};
+
+struct FrameTimings {
+  double upsample_ms = 0, draw_ms = 0, overlay_ms = 0, readback_ms = 0;
+};
+
+class Overlay;
+
+class Renderer {
+ public:
+  explicit Renderer(const RenderOptions& options);
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  void render(const Snapshot& s, Image* out, FrameTimings* timings = nullptr);
+
+  const ContextInfo& context_info() const { return context_->info(); }
+  const RenderOptions& options() const { return opt_; }
+  const Colormap& colormap() const { return colormap_; }
+  // Range and camera of the last rendered frame.
+  double last_vmin() const { return vmin_; }
+  double last_vmax() const { return vmax_; }
+  const Camera& last_camera() const { return camera_; }
+
+ private:
+  void create_framebuffers();
+  RenderOptions opt_;
+  std::unique_ptr<GlContext> context_;
+  Colormap colormap_;
+  std::unique_ptr<Upsampler> upsampler_;
+  int upsampler_nb_ = 0;
+  SurfaceMesh mesh_;
+  std::unique_ptr<Overlay> overlay_;
+  Camera camera_;
+  double vmin_ = 0, vmax_ = 1;
+  unsigned surface_prog_ = 0, lines_prog_ = 0;
+  unsigned vao_ = 0, vbo_[3] = {0, 0, 0}, ebo_tri_ = 0, ebo_lines_ = 0, cmap_tex_ = 0;
+  unsigned msaa_fbo_ = 0, msaa_rb_[2] = {0, 0}, fbo_ = 0, rb_[2] = {0, 0};
+  size_t uploaded_indices_ = 0;
+  std::vector<uint8_t> readback_;
+};
+
+}  // namespace capflow::render
