@@ -1,0 +1,111 @@
+#include "capsule/capsule.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "geometry/surface.h"
+
+namespace capflow::capsule {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+
+SymmetryKind symmetry_for(const Flow& flow, SymmetryChoice choice) {
+  if (choice == SymmetryChoice::None) return SymmetryKind::None;
+  switch (flow.type) {
+    case FlowType::PlanarExtension: return SymmetryKind::Octant;
+    case FlowType::SimpleShear: return SymmetryKind::Shear;
+    default: return SymmetryKind::None;
+  }
+}
+}  // namespace
+
+double enclosed_volume(const geometry::Mesh& mesh, const Eigen::Matrix3Xd& x) {
+  const geometry::QuadratureSurface q = geometry::sample_gauss(mesh, x, mesh.nb() + 4);
+  double v = 0;
+  for (int k = 0; k < q.x.cols(); ++k) v += q.x.col(k).dot(q.n.col(k)) * q.w[k];
+  return v / 3.0;
+}
+
+Capsule::Capsule(const geometry::Mesh& mesh, const membrane::LawOptions& law, const Flow& flow,
+                 const DynamicsOptions& options)
+    : mesh_(mesh), flow_(flow), opt_(options) {
+  if (opt_.viscosity_ratio != 1.0)
+    throw std::invalid_argument(
+        "viscosity_ratio = " + std::to_string(opt_.viscosity_ratio) +
+        " is not implemented yet: only 1 (equal viscosities, no double-layer solve) is supported");
+  membrane_ = std::make_unique<membrane::Membrane>(mesh, mesh.reference(), membrane::make_law(law));
+  ops_ = std::make_unique<stokes::BoundaryOperators>(mesh, opt_.quadrature);
+  symmetry_ = std::make_unique<SymmetryMap>(mesh, symmetry_for(flow_, opt_.symmetry));
+  no_symmetry_ = std::make_unique<SymmetryMap>(mesh, SymmetryKind::None);
+  ref_basis_ = tangent_basis(mesh, mesh.reference());
+  x_ = mesh.reference();
+  v0_ = enclosed_volume(mesh, x_);
+}
+
+void Capsule::set_state(const Eigen::Matrix3Xd& x, double t, long steps) {
+  if (x.cols() != mesh_.num_local())
+    throw std::invalid_argument("Capsule::set_state: expected " +
+                                std::to_string(mesh_.num_local()) + " nodes, got " +
+                                std::to_string(x.cols()));
+  x_ = x;
+  t_ = t;
+  steps_ = steps;
+}
+
+Eigen::Matrix3Xd Capsule::traction(const Eigen::Matrix3Xd& x) const {
+  Eigen::Matrix3Xd f;
+  membrane_->traction(x, &f);
+  if (opt_.smooth_traction) smooth_first_order(mesh_, tangent_basis(mesh_, x), &f);
+  return f;
+}
+
+Eigen::Matrix3Xd Capsule::velocity_impl(const Eigen::Matrix3Xd& x, double ca,
+                                        bool use_symmetry) const {
+  if (!(ca > 0)) throw std::invalid_argument("Capsule::velocity: Ca must be > 0");
+  const SymmetryMap& sym = use_symmetry ? *symmetry_ : *no_symmetry_;
+  const Eigen::Matrix3Xd f = traction(x);
+  const std::vector<int>& targets = sym.targets();
+  Eigen::Matrix3Xd sl(3, targets.size());
+  ops_->single_layer(x, f, targets, sl);
+  const double c = 1.0 / (8.0 * kPi * ca);
+  Eigen::Matrix3Xd ut(3, targets.size());
+  for (size_t k = 0; k < targets.size(); ++k)
+    ut.col(k) = flow_.gradient * x.col(targets[k]) - c * sl.col(k);
+  Eigen::Matrix3Xd u;
+  sym.expand(ut, &u);
+  return u;
+}
+
+Eigen::Matrix3Xd Capsule::velocity(const Eigen::Matrix3Xd& x, double ca) const {
+  return velocity_impl(x, ca, true);
+}
+
+Eigen::Matrix3Xd Capsule::velocity_full(const Eigen::Matrix3Xd& x, double ca) const {
+  return velocity_impl(x, ca, false);
+}
+
+void Capsule::step(double dt, const CaFunction& ca) {
+  const double t = t_;
+  const Eigen::Matrix3Xd k1 = velocity(x_, ca(t));
+  const Eigen::Matrix3Xd k2 = velocity(x_ + 0.5 * dt * k1, ca(t + 0.5 * dt));
+  const Eigen::Matrix3Xd k3 = velocity(x_ + 0.5 * dt * k2, ca(t + 0.5 * dt));
+  const Eigen::Matrix3Xd k4 = velocity(x_ + dt * k3, ca(t + dt));
+  x_ += (dt / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+  if (opt_.smooth_geometry) smooth_first_order(mesh_, ref_basis_, &x_);
+  if (opt_.volume_correction) {
+    const double v = enclosed_volume(mesh_, x_);
+    // Centroid x_c = (1/V) INT (|x|^2/2) n dS.
+    const geometry::QuadratureSurface q = geometry::sample_gauss(mesh_, x_, mesh_.nb() + 4);
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (int k = 0; k < q.x.cols(); ++k) c += 0.5 * q.x.col(k).squaredNorm() * q.n.col(k) * q.w[k];
+    c /= v;
+    const double s = std::cbrt(v0_ / v);
+    x_ = ((x_.colwise() - c) * s).colwise() + c;
+  }
+  t_ = t + dt;
+  ++steps_;
+}
+
+}  // namespace capflow::capsule

@@ -1,0 +1,95 @@
+// capflow/capsule/capsule: the capsule's state and its time evolution (paper secs. 2-3).
+//
+// Velocity of the membrane nodes for viscosity ratio lambda = 1 (paper eq. 5, dimensionless):
+//   u(x0) = u_inf(x0) - (1/(8 pi Ca)) INT S(x0, x) . f(x) dS(x),
+// f = -div_s tau the traction jump from the membrane (units Gs/a), lengths in a, time in 1/G.
+// Time stepping: classical RK4 on the node positions (material points, dx/dt = u) with a fixed
+// dt; Ca may depend on time (evaluated at the RK stage times).
+// Smoothing (paper sec. 3.2, capsule/smoothing.h): f is smoothed every time it is computed
+// (i.e. at the start of each RK stage, with the current tangents), the geometry at the end of
+// every step (with the reference tangents).
+// Optional volume correction (paper eq. 23), off by default:
+//   x_new - x_c = (V0/V)^(1/3) (x - x_c).
+// Symmetry: planar extension evaluates the velocity on one octant, simple shear on a quarter
+// (capsule/symmetry.h); results equal the full evaluation to round-off (tests/capsule).
+// Threads: the boundary integral loops use OpenMP; a Capsule object is not thread-safe.
+#pragma once
+
+#include <Eigen/Dense>
+#include <functional>
+#include <memory>
+
+#include "capsule/flow.h"
+#include "capsule/smoothing.h"
+#include "capsule/symmetry.h"
+#include "geometry/mesh.h"
+#include "membrane/law.h"
+#include "membrane/membrane.h"
+#include "stokes/boundary_integral.h"
+
+namespace capflow::capsule {
+
+using CaFunction = std::function<double(double t)>;
+
+enum class SymmetryChoice { Auto, None };
+
+struct DynamicsOptions {
+  double viscosity_ratio = 1.0;   // lambda; only 1 is implemented (constructor refuses others)
+  bool smooth_geometry = true;    // paper's first-order smoothing of x after each step
+  bool smooth_traction = true;    // ... and of f before each use
+  bool volume_correction = false; // paper eq. 23
+  SymmetryChoice symmetry = SymmetryChoice::Auto;  // Auto: octant (planar ext.), quarter (shear)
+  stokes::QuadratureOptions quadrature;
+};
+
+class Capsule {
+ public:
+  // The mesh must outlive the Capsule. Starts from the reference sphere at t = 0.
+  // Throws std::invalid_argument for invalid law options or viscosity_ratio != 1.
+  Capsule(const geometry::Mesh& mesh, const membrane::LawOptions& law, const Flow& flow,
+          const DynamicsOptions& options = {});
+
+  const geometry::Mesh& mesh() const { return mesh_; }
+  const Flow& flow() const { return flow_; }
+  const DynamicsOptions& options() const { return opt_; }
+  const membrane::Membrane& membrane() const { return *membrane_; }
+  const SymmetryMap& symmetry() const { return *symmetry_; }
+
+  const Eigen::Matrix3Xd& positions() const { return x_; }
+  double time() const { return t_; }
+  long step_count() const { return steps_; }
+  double initial_volume() const { return v0_; }
+  // Restores a saved state (restart). Throws std::invalid_argument on a size mismatch.
+  void set_state(const Eigen::Matrix3Xd& x, double t, long steps);
+
+  // Traction jump at positions x, smoothed if options().smooth_traction.
+  Eigen::Matrix3Xd traction(const Eigen::Matrix3Xd& x) const;
+  // Node velocities at positions x for capillary number ca (> 0).
+  Eigen::Matrix3Xd velocity(const Eigen::Matrix3Xd& x, double ca) const;
+  // Same, evaluated at every node without symmetry (reference for tests).
+  Eigen::Matrix3Xd velocity_full(const Eigen::Matrix3Xd& x, double ca) const;
+
+  // One RK4 step of size dt with Ca(t); then smoothing and the optional volume correction.
+  void step(double dt, const CaFunction& ca);
+
+ private:
+  Eigen::Matrix3Xd velocity_impl(const Eigen::Matrix3Xd& x, double ca, bool use_symmetry) const;
+
+  const geometry::Mesh& mesh_;
+  Flow flow_;
+  DynamicsOptions opt_;
+  std::unique_ptr<membrane::Membrane> membrane_;
+  std::unique_ptr<stokes::BoundaryOperators> ops_;
+  std::unique_ptr<SymmetryMap> symmetry_;
+  std::unique_ptr<SymmetryMap> no_symmetry_;
+  SmoothingBasis ref_basis_;
+  Eigen::Matrix3Xd x_;
+  double t_ = 0;
+  long steps_ = 0;
+  double v0_ = 0;
+};
+
+// Volume enclosed by the surface x (Gauss quadrature, nq = NB + 4).
+double enclosed_volume(const geometry::Mesh& mesh, const Eigen::Matrix3Xd& x);
+
+}  // namespace capflow::capsule

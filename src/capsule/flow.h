@@ -1,0 +1,27 @@
+// capflow/capsule/flow: imposed linear flows u_inf(x) = G x (dimensionless, time scale 1/G).
+//   planar extension u = (x, -y, 0):  G = diag(1, -1, 0)
+//   simple shear     u = (z, 0, 0):   G_xz = 1
+//   any constant velocity gradient (traceless for an incompressible flow).
+#pragma once
+
+#include <Eigen/Dense>
+#include <string>
+
+namespace capflow::capsule {
+
+enum class FlowType { PlanarExtension, SimpleShear, Custom };
+
+struct Flow {
+  FlowType type = FlowType::PlanarExtension;
+  Eigen::Matrix3d gradient = Eigen::Vector3d(1, -1, 0).asDiagonal();
+
+  static Flow planar_extension();
+  static Flow simple_shear();
+  // Throws std::invalid_argument unless |trace G| <= 1e-12 (incompressible).
+  static Flow custom(const Eigen::Matrix3d& gradient);
+
+  Eigen::Vector3d velocity(const Eigen::Vector3d& x) const { return gradient * x; }
+  std::string name() const;
+};
+
+}  // namespace capflow::capsule

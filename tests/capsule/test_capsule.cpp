@@ -1,0 +1,136 @@
+// Capsule dynamics: symmetry reduction equals the full evaluation; flows; rigid-body and
+// steady-state sanity; health monitor triggers.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "capsule/capsule.h"
+#include "capsule/health.h"
+#include "geometry/shapes.h"
+
+using namespace capflow;
+using namespace capflow::capsule;
+
+namespace {
+// A deformed state with the symmetries of the flow (a smooth map of the sphere).
+Eigen::Matrix3Xd deformed(const geometry::Mesh& mesh, bool shear) {
+  return geometry::map_points(mesh.reference(), [shear](const Eigen::Vector3d& p) -> Eigen::Vector3d {
+    if (!shear) return {1.2 * p.x() * (1 + 0.1 * p.y() * p.y()), 0.85 * p.y(), 1.02 * p.z()};
+    // Tilted ellipsoid in the x-z plane: symmetric under y -> -y and (x,z) -> (-x,-z).
+    const double c = std::cos(0.4), s = std::sin(0.4);
+    const Eigen::Vector3d q(1.3 * p.x(), 0.95 * p.y(), 0.8 * p.z());
+    return {c * q.x() - s * q.z(), q.y(), s * q.x() + c * q.z()};
+  });
+}
+}  // namespace
+
+TEST(Capsule, OctantSymmetryEqualsFullEvaluation) {
+  for (int ne : {6, 10}) {
+    const geometry::Mesh mesh(ne, 8);
+    Capsule cap(mesh, membrane::LawOptions{}, Flow::planar_extension());
+    EXPECT_EQ(cap.symmetry().kind(), SymmetryKind::Octant);
+    const Eigen::Matrix3Xd x = deformed(mesh, false);
+    const Eigen::Matrix3Xd u = cap.velocity(x, 0.3), uf = cap.velocity_full(x, 0.3);
+    EXPECT_LT((u - uf).cwiseAbs().maxCoeff(), 1e-10) << ne;
+    EXPECT_LT(cap.symmetry().targets().size() * 6, static_cast<size_t>(mesh.num_unique()));
+  }
+}
+
+TEST(Capsule, ShearSymmetryEqualsFullEvaluation) {
+  const geometry::Mesh mesh(14, 8);
+  DynamicsOptions opt;
+  Capsule cap(mesh, membrane::LawOptions{membrane::LawKind::NeoHookean}, Flow::simple_shear(), opt);
+  EXPECT_EQ(cap.symmetry().kind(), SymmetryKind::Shear);
+  const Eigen::Matrix3Xd x = deformed(mesh, true);
+  const Eigen::Matrix3Xd u = cap.velocity(x, 0.2), uf = cap.velocity_full(x, 0.2);
+  EXPECT_LT((u - uf).cwiseAbs().maxCoeff(), 1e-10);
+  EXPECT_LT(cap.symmetry().targets().size() * 3, static_cast<size_t>(mesh.num_unique()));
+}
+
+TEST(Capsule, RestingSphereMovesWithTheFlow) {
+  // The undeformed sphere carries no tension: u = u_inf exactly (up to round-off of f).
+  const geometry::Mesh mesh(6, 8);
+  Capsule cap(mesh, membrane::LawOptions{}, Flow::planar_extension());
+  const Eigen::Matrix3Xd u = cap.velocity(mesh.reference(), 0.5);
+  const Eigen::Matrix3Xd expect = Flow::planar_extension().gradient * mesh.reference();
+  EXPECT_LT((u - expect).cwiseAbs().maxCoeff(), 1e-10);
+}
+
+TEST(Capsule, InflatedSphereIsInEquilibrium) {
+  // An isotropically inflated sphere carries a uniform normal load f = (2 tau0/alpha) n, which a
+  // Stokes flow balances by a pressure jump: u = 0 (INT S.n dS = 0 on any closed surface).
+  const geometry::Mesh mesh(6, 10);
+  Capsule cap(mesh, membrane::LawOptions{}, Flow::custom(Eigen::Matrix3d::Zero()));
+  const Eigen::Matrix3Xd x = 1.1 * mesh.reference();
+  const double fscale = cap.traction(x).colwise().norm().maxCoeff() * 1.1 * 2.0 / 3.0;
+  EXPECT_GT(fscale, 0.1);
+  const Eigen::Matrix3Xd u = cap.velocity(x, 1.0);
+  EXPECT_LT(u.cwiseAbs().maxCoeff(), 1e-4 * fscale);
+}
+
+TEST(Capsule, RefusesUnimplementedViscosityRatio) {
+  const geometry::Mesh mesh(6, 6);
+  DynamicsOptions opt;
+  opt.viscosity_ratio = 5.0;
+  try {
+    Capsule cap(mesh, membrane::LawOptions{}, Flow::planar_extension(), opt);
+    FAIL() << "expected std::invalid_argument";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("viscosity_ratio"), std::string::npos);
+  }
+}
+
+TEST(Capsule, VolumeCorrectionRestoresVolume) {
+  const geometry::Mesh mesh(6, 8);
+  DynamicsOptions opt;
+  opt.volume_correction = true;
+  Capsule cap(mesh, membrane::LawOptions{}, Flow::planar_extension(), opt);
+  cap.set_state(1.01 * mesh.reference(), 0.0, 0);  // 3% too much volume
+  cap.step(1e-3, [](double) { return 0.4; });
+  EXPECT_NEAR(enclosed_volume(mesh, cap.positions()) / cap.initial_volume(), 1.0, 1e-12);
+}
+
+TEST(Health, DetectsNanJacobianFlipAndOscillation) {
+  const geometry::Mesh mesh(6, 8);
+  HealthMonitor hm(mesh, mesh.reference());
+  EXPECT_EQ(hm.check(mesh.reference(), 0.0).level, HealthLevel::Ok);
+  Eigen::Matrix3Xd x = mesh.reference();
+  x(1, 17) = std::nan("");
+  HealthReport r = hm.check(x, 0.1);
+  EXPECT_EQ(r.level, HealthLevel::Failure);
+  EXPECT_EQ(r.cause, "nan");
+  // Inverting the surface flips every Jacobian.
+  r = hm.check(geometry::map_points(mesh.reference(),
+                                    [](const Eigen::Vector3d& p) -> Eigen::Vector3d {
+                                      return {-p.x(), p.y(), p.z()};
+                                    }),
+               0.2);
+  EXPECT_EQ(r.cause, "jacobian");
+  EXPECT_NE(r.message.find("t = 0.2"), std::string::npos);
+  // A small sawtooth on the interior nodes of one element (a fresh monitor: the last good
+  // state above is the sphere).
+  HealthOptions opt;
+  opt.oscillation_warn = 2e-4;
+  opt.oscillation_fail = 1e-3;
+  HealthMonitor hm2(mesh, mesh.reference(), opt);
+  EXPECT_LT(hm2.oscillation_indicator(mesh.reference()), 1e-4);
+  x = mesh.reference();
+  for (int j = 1; j < 7; ++j)
+    for (int i = 1; i < 7; ++i) x.col(mesh.local(4, i, j)) *= 1.0 + 0.005 * ((i % 2) ? 1 : -1);
+  r = hm2.check(x, 0.3);
+  EXPECT_EQ(r.cause, "oscillation");
+  EXPECT_EQ(r.level, HealthLevel::Failure);
+  EXPECT_NE(r.message.find("oscillation"), std::string::npos);
+}
+
+TEST(Health, WrinklingWarningNeedsPersistenceNearSteadyState) {
+  const geometry::Mesh mesh(6, 6);
+  HealthMonitor hm(mesh, mesh.reference());
+  const Eigen::Vector3d at(0, 0, 1);
+  EXPECT_EQ(hm.check_wrinkling(0.0, -0.1, at, 0.5).level, HealthLevel::Ok);   // not steady
+  EXPECT_EQ(hm.check_wrinkling(1.0, -0.1, at, 1e-5).level, HealthLevel::Ok);  // starts
+  const HealthReport r = hm.check_wrinkling(2.5, -0.1, at, 1e-5);
+  EXPECT_EQ(r.level, HealthLevel::Warning);
+  EXPECT_EQ(r.cause, "wrinkling");
+}
