@@ -1,0 +1,92 @@
+// Time per application of the single-layer operator (all nodes, one value per coincidence
+// class), the double layer, and the octant subset (planar-extension symmetry), on the
+// ellipsoid (1.8, 0.7, 1.0). Counters: kernel pairs per second (far + own + near points x
+// targets) and the split of the pairs between the three tiers.
+#include <benchmark/benchmark.h>
+#include <omp.h>
+
+#include "geometry/mesh.h"
+#include "geometry/shapes.h"
+#include "stokes/boundary_integral.h"
+
+using namespace capflow;
+using Eigen::Matrix3Xd;
+using Eigen::Vector3d;
+
+namespace {
+
+struct Setup {
+  geometry::Mesh mesh;
+  stokes::BoundaryOperators op;
+  Matrix3Xd x, f;
+  Setup(int ne, int nb) : mesh(ne, nb), op(mesh) {
+    x = geometry::map_points(mesh.reference(), geometry::ellipsoid_map(1.8, 0.7, 1.0));
+    f.resize(3, mesh.num_local());
+    for (int m = 0; m < mesh.num_local(); ++m)
+      f.col(m) = Vector3d(std::sin(x(0, m)), x(1, m) * x(2, m), std::exp(0.5 * x(0, m)));
+  }
+};
+
+void report(benchmark::State& st, const stokes::OperatorStats& s) {
+  const double pairs = static_cast<double>(s.pairs());
+  st.counters["pairs/s"] =
+      benchmark::Counter(pairs * st.iterations(), benchmark::Counter::kIsRate);
+  st.counters["targets"] = static_cast<double>(s.targets);
+  st.counters["own%"] = 100.0 * s.own_pairs / pairs;
+  st.counters["near%"] = 100.0 * s.near_pairs / pairs;
+  st.counters["far%"] = 100.0 * s.far_pairs / pairs;
+}
+
+void BM_SingleLayer(benchmark::State& st) {
+  Setup s(static_cast<int>(st.range(0)), static_cast<int>(st.range(1)));
+  omp_set_num_threads(static_cast<int>(st.range(2)));
+  for (auto _ : st) benchmark::DoNotOptimize(s.op.single_layer(s.x, s.f));
+  report(st, s.op.last_stats());
+}
+
+void BM_DoubleLayer(benchmark::State& st) {
+  Setup s(static_cast<int>(st.range(0)), static_cast<int>(st.range(1)));
+  omp_set_num_threads(static_cast<int>(st.range(2)));
+  for (auto _ : st) benchmark::DoNotOptimize(s.op.double_layer(s.x, s.f));
+  report(st, s.op.last_stats());
+}
+
+// Targets in the octant x, y, z >= 0 only (one per coincidence class).
+void BM_SingleLayerOctant(benchmark::State& st) {
+  Setup s(static_cast<int>(st.range(0)), static_cast<int>(st.range(1)));
+  omp_set_num_threads(static_cast<int>(st.range(2)));
+  std::vector<int> t;
+  for (const auto& c : s.mesh.classes()) {
+    const Vector3d p = s.mesh.reference().col(c.front());
+    if (p.minCoeff() >= -1e-12) t.push_back(c.front());
+  }
+  Matrix3Xd out;
+  for (auto _ : st) {
+    s.op.single_layer(s.x, s.f, t, out);
+    benchmark::DoNotOptimize(out.data());
+  }
+  report(st, s.op.last_stats());
+}
+
+}  // namespace
+
+BENCHMARK(BM_SingleLayer)
+    ->ArgNames({"NE", "NB", "threads"})
+    ->ArgsProduct({{6, 10, 14}, {8, 10, 12, 14}, {1, 2}})
+    ->Unit(benchmark::kMillisecond)
+    ->MinTime(0.5)
+    ->UseRealTime();
+BENCHMARK(BM_DoubleLayer)
+    ->ArgNames({"NE", "NB", "threads"})
+    ->ArgsProduct({{6, 10}, {10, 12}, {2}})
+    ->Unit(benchmark::kMillisecond)
+    ->MinTime(0.5)
+    ->UseRealTime();
+BENCHMARK(BM_SingleLayerOctant)
+    ->ArgNames({"NE", "NB", "threads"})
+    ->ArgsProduct({{6}, {10}, {1, 2}})
+    ->Unit(benchmark::kMillisecond)
+    ->MinTime(0.5)
+    ->UseRealTime();
+
+BENCHMARK_MAIN();
