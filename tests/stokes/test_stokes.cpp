@@ -177,6 +177,6 @@ TEST(StokesApi, SubsetPointsAndGauss) {
     Matrix3Xd fj = Matrix3Xd::Zero(3, mesh.num_local());
     fj.row(j).setOnes();
     const Matrix3Xd v = op.single_layer_at(s, fj, q);
-    for (int k = 0; k < 4; ++k) EXPECT_NEAR(v(j, k), 16 * kPi / 3, 2e-4) << j << " " << k;
+    for (int k = 0; k < 4; ++k) EXPECT_NEAR(v(j, k), 16 * kPi / 3, 1e-4) << j << " " << k;
   }
 }
