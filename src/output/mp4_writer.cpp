@@ -66,6 +66,8 @@ Mp4Writer::Mp4Writer(const std::string& path, const Mp4Options& o) : impl_(new I
     throw std::invalid_argument("mp4: width and height must be positive and even");
   if (o.fps < 1 || o.crf < 0 || o.crf > 51 || o.flush_every < 1)
     throw std::invalid_argument("mp4: need fps >= 1, crf in [0,51], flush_every >= 1");
+  // libx264 prints its statistics at info level on every close; keep the run log readable.
+  if (av_log_get_level() > AV_LOG_WARNING) av_log_set_level(AV_LOG_WARNING);
   Impl& m = *impl_;
   m.opt = o;
   m.path = path;
