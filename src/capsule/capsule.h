@@ -44,7 +44,8 @@ struct DynamicsOptions {
 
 class Capsule {
  public:
-  // The mesh must outlive the Capsule. Starts from the reference sphere at t = 0.
+  // The mesh must outlive the Capsule. Starts from the reference sphere at t = 0 (smoothed once
+  // when smooth_geometry is on; initial_volume() is the volume of that state).
   // Throws std::invalid_argument for invalid law options or viscosity_ratio != 1.
   Capsule(const geometry::Mesh& mesh, const membrane::LawOptions& law, const Flow& flow,
           const DynamicsOptions& options = {});

@@ -173,7 +173,7 @@ TEST_P(Images, ColorbarPixelsFollowTheColormap) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, Images, ::testing::Values(Backend::Egl, Backend::OSMesa),
-                         [](const auto& info) { return std::string(backend_name(info.param)); });
+                         [](const auto& param_info) { return std::string(backend_name(param_info.param)); });
 
 }  // namespace
 }  // namespace capflow::render

@@ -1,0 +1,100 @@
+// capflow/control/options: the typed, validated content of a control file.
+//
+// Every field documents its JSON key, default, unit and valid range. These structs are plain
+// data: only src/control/control_file.cpp fills them from JSON (nothing else parses JSON).
+// Units: lengths in the capsule radius a, time in 1/G (G the shear or extension rate),
+// tensions in Gs, Ca = mu G a / Gs.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "capsule/flow.h"
+#include "membrane/law.h"
+
+namespace capflow::control {
+
+struct MeshOptions {
+  int elements = 10;  // "mesh.elements": 6 | 10 | 14 (paper fig. 1)
+  int nb = 12;        // "mesh.nb": Gauss-Lobatto nodes per element direction, 4..24
+};
+
+struct TimeOptions {
+  double dt = 1e-3;   // "time.dt": RK4 step, (0, 0.1]; stable for dt < O(Ca dx_min)
+  double t_end = 20;  // "time.t_end": simulated end time, (0, 1e6]
+};
+
+// One segment of a Ca schedule (the "ca" key as a list):
+//   {"ca": 0.45, "hold": "steady"}       hold Ca until steady state
+//   {"ca": 1.0, "hold": 5.0}             hold Ca for 5 time units
+//   {"ramp": {"to": 2.5, "rate": 0.1}}   change Ca linearly at |dCa/dt| = rate
+//   {"steps": {"to": 2.5, "by": 0.25, "hold": "steady"}}  the paper's gradual increase: jump by
+//        `by` towards `to`, hold each level (until steady, or for a time), ending at `to`
+struct CaSegment {
+  enum class Kind { Hold, Ramp, Steps };
+  Kind kind = Kind::Hold;
+  double ca = 0;            // Hold: the level
+  double to = 0;            // Ramp/Steps: the final level
+  double rate = 0;          // Ramp: |dCa/dt| > 0
+  double by = 0;            // Steps: increment > 0
+  bool until_steady = true; // Hold/Steps: hold until steady state ...
+  double hold_time = 0;     // ... or for this long (when until_steady is false)
+};
+
+struct CaSchedule {
+  std::vector<CaSegment> segments;  // "ca": a number n is [{"ca": n, "hold": "steady"}] that
+                                    // never ends (the run ends at t_end)
+  bool constant = false;            // true when "ca" was a plain number
+};
+
+struct SteadyOptions {
+  double tolerance = 1e-4;  // "steady.tolerance": max |dL/dt|, |dS/dt|, |dW/dt|, (0, 1]
+  double window = 0.5;      // "steady.window": time over which the rates are measured, (0, 100]
+  double min_hold = 1.0;    // "steady.min_hold": minimum time at a Ca level before a steady state
+                            // may be declared, [0, 1e4]
+};
+
+struct Mp4Options {
+  bool enabled = true;  // "output.mp4": false or an object; true = defaults
+  int fps = 30;         // "output.mp4.fps": 1..240
+  int quality = 23;     // "output.mp4.quality": x264 CRF, 0 (lossless) .. 51 (worst)
+};
+
+struct OutputOptions {
+  std::string dir = "runs/capflow";  // "output.dir": run directory (created)
+  double csv_every = 0.01;           // "output.csv_every": timeseries.csv cadence (sim. time), > 0
+  double frame_every = 0.0;          // "output.frame_every": movie/PNG frame cadence, 0 = none
+  bool png = true;                   // "output.png": write frames/frame_NNNNNN.png
+  Mp4Options mp4;                    // "output.mp4"
+  double checkpoint_every = 0.0;     // "output.checkpoint_every": 0 = only at the end
+};
+
+struct NumericsOptions {
+  bool smoothing = true;          // "numerics.smoothing": paper's first-order smoothing
+  bool volume_correction = false; // "numerics.volume_correction": paper eq. 23
+  bool symmetry = true;           // "numerics.symmetry": use the flow's symmetries
+  int threads = 0;                // "numerics.threads": OpenMP threads, 0 = all cores
+};
+
+enum class RunState { Running, Paused, Stopped };
+
+struct RunOptions {
+  RunState state = RunState::Running;  // "run.state": "running" | "paused" | "stopped"
+  bool checkpoint_now = false;         // "run.checkpoint_now": write a checkpoint once
+};
+
+struct ControlOptions {
+  membrane::LawOptions law;           // "capsule.law", "capsule.C", "capsule.psi"
+  double viscosity_ratio = 1.0;       // "capsule.viscosity_ratio": only 1 is implemented
+  MeshOptions mesh;
+  capsule::Flow flow;                 // "flow.type": "planar-extension" | "simple-shear"
+  TimeOptions time;
+  CaSchedule ca;                      // "ca": number or list of segments
+  SteadyOptions steady;
+  OutputOptions output;
+  NumericsOptions numerics;
+  RunOptions run;
+};
+
+}  // namespace capflow::control
