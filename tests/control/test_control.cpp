@@ -1,0 +1,209 @@
+// Control file: every validation rule reports the JSON path, the bad value and the valid range
+// or alternatives; valid files round-trip through the effective control file.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "control/control_file.h"
+
+using namespace capflow::control;
+
+namespace {
+const char* kMinimal = R"({"ca": 0.45})";
+
+// Parses `text` expecting failure; returns the issue at `path` (fails the test if absent).
+std::string issue_at(const std::string& text, const std::string& path) {
+  try {
+    parse_control(text, "test.json");
+  } catch (const ControlError& e) {
+    for (const auto& i : e.issues())
+      if (i.path == path) return i.message;
+    std::string all;
+    for (const auto& i : e.issues()) all += i.str() + "\n";
+    ADD_FAILURE() << "no issue at " << path << "; issues:\n" << all;
+    return "";
+  }
+  ADD_FAILURE() << "expected a ControlError for " << text;
+  return "";
+}
+
+void expect_contains(const std::string& s, const std::string& part) {
+  EXPECT_NE(s.find(part), std::string::npos) << "'" << part << "' not in: " << s;
+}
+}  // namespace
+
+TEST(ControlFile, MinimalFileGetsDefaults) {
+  const ParsedControl p = parse_control(kMinimal);
+  EXPECT_EQ(p.options.mesh.elements, 10);
+  EXPECT_EQ(p.options.mesh.nb, 12);
+  EXPECT_EQ(p.options.law.kind, capflow::membrane::LawKind::Skalak);
+  ASSERT_EQ(p.options.ca.segments.size(), 1u);
+  EXPECT_TRUE(p.options.ca.constant);
+  EXPECT_DOUBLE_EQ(p.options.ca.segments[0].ca, 0.45);
+}
+
+TEST(ControlFile, MilestoneThreeExampleParses) {
+  const ParsedControl p = parse_control(R"({"capsule": {"law": "neo-hookean", "C": 1, "psi": 1,
+    "viscosity_ratio": 1}, "mesh": {"elements": 14, "nb": 10}, "flow": {"type": "simple-shear"},
+    "time": {"dt": 1e-3, "t_end": 20}, "ca": 0.45, "output": {"dir": "runs/x", "csv_every": 0.01}})");
+  EXPECT_EQ(p.options.law.kind, capflow::membrane::LawKind::NeoHookean);
+  EXPECT_EQ(p.options.flow.type, capflow::capsule::FlowType::SimpleShear);
+  EXPECT_EQ(p.options.output.dir, "runs/x");
+  // C given for a neo-Hookean law is legal but flagged.
+  bool warned = false;
+  for (const auto& w : p.warnings) warned |= (w.path == "capsule.C");
+  EXPECT_TRUE(warned);
+}
+
+TEST(ControlFile, InvalidJsonIsReported) {
+  try {
+    parse_control("{\"ca\": 0.4,,}", "f.json");
+    FAIL();
+  } catch (const ControlError& e) {
+    expect_contains(e.what(), "f.json");
+    expect_contains(e.what(), "not valid JSON");
+  }
+  expect_contains(issue_at("[1, 2]", ""), "must be a JSON object");
+}
+
+TEST(ControlFile, MissingCa) { expect_contains(issue_at("{}", "ca"), "missing"); }
+
+TEST(ControlFile, UnknownKeysSuggestAlternatives) {
+  const std::string m = issue_at(R"({"ca": 0.4, "mesh": {"nbb": 10}})", "mesh.nbb");
+  expect_contains(m, "unknown key");
+  expect_contains(m, "did you mean \"nb\"");
+  expect_contains(issue_at(R"({"ca": 0.4, "outptu": {}})", "outptu"), "did you mean \"output\"");
+}
+
+TEST(ControlFile, LawChoice) {
+  const std::string m = issue_at(R"({"ca": 0.4, "capsule": {"law": "skalk"}})", "capsule.law");
+  expect_contains(m, "\"skalk\"");
+  expect_contains(m, "\"neo-hookean\"");
+  expect_contains(m, "did you mean \"skalak\"");
+}
+
+TEST(ControlFile, NumericRanges) {
+  struct Case { const char* json; const char* path; const char* range; };
+  const Case cases[] = {
+      {R"({"ca": 0.4, "capsule": {"C": -1}})", "capsule.C", "(-0.5, 10000]"},
+      {R"({"ca": 0.4, "capsule": {"psi": 1.5}})", "capsule.psi", "[0, 1]"},
+      {R"({"ca": 0.4, "time": {"dt": 0}})", "time.dt", "(0, 0.1]"},
+      {R"({"ca": 0.4, "time": {"t_end": -3}})", "time.t_end", "(0, 1e+06]"},
+      {R"({"ca": 0.4, "steady": {"tolerance": 2}})", "steady.tolerance", "(0, 1]"},
+      {R"({"ca": 0.4, "steady": {"window": 0}})", "steady.window", "(0, 100]"},
+      {R"({"ca": 0.4, "output": {"csv_every": 0}})", "output.csv_every", "(0, 1e+06]"},
+      {R"({"ca": 0.4, "output": {"frame_every": -1}})", "output.frame_every", "[0, 1e+06]"},
+      {R"({"ca": -0.4})", "ca", "(0, 100]"},
+  };
+  for (const Case& c : cases) {
+    const std::string m = issue_at(c.json, c.path);
+    expect_contains(m, "out of range");
+    expect_contains(m, c.range);
+  }
+}
+
+TEST(ControlFile, IntegerRangesAndSets) {
+  std::string m = issue_at(R"({"ca": 0.4, "mesh": {"elements": 8}})", "mesh.elements");
+  expect_contains(m, "8");
+  expect_contains(m, "6, 10, 14");
+  m = issue_at(R"({"ca": 0.4, "mesh": {"nb": 30}})", "mesh.nb");
+  expect_contains(m, "4..24");
+  m = issue_at(R"({"ca": 0.4, "mesh": {"nb": 10.5}})", "mesh.nb");
+  expect_contains(m, "expected an integer");
+  m = issue_at(R"({"ca": 0.4, "output": {"mp4": {"quality": 60}}})", "output.mp4.quality");
+  expect_contains(m, "0..51");
+}
+
+TEST(ControlFile, TypesAreChecked) {
+  expect_contains(issue_at(R"({"ca": 0.4, "time": {"dt": "x"}})", "time.dt"), "expected a number");
+  expect_contains(issue_at(R"({"ca": 0.4, "output": {"png": 1}})", "output.png"), "true or false");
+  expect_contains(issue_at(R"({"ca": 0.4, "mesh": 3})", "mesh"), "expected an object");
+  expect_contains(issue_at(R"({"ca": 0.4, "output": {"dir": ""}})", "output.dir"), "non-empty string");
+  expect_contains(issue_at(R"({"ca": 0.4, "output": {"mp4": "yes"}})", "output.mp4"), "true, false");
+}
+
+TEST(ControlFile, ViscosityRatioOtherThanOneIsRefused) {
+  expect_contains(issue_at(R"({"ca": 0.4, "capsule": {"viscosity_ratio": 2}})", "capsule.viscosity_ratio"),
+                  "only 1");
+}
+
+TEST(ControlFile, FlowAndRunChoices) {
+  expect_contains(issue_at(R"({"ca": 0.4, "flow": {"type": "shear"}})", "flow.type"),
+                  "\"planar-extension\", \"simple-shear\"");
+  expect_contains(issue_at(R"({"ca": 0.4, "run": {"state": "go"}})", "run.state"), "\"running\"");
+}
+
+TEST(ControlFile, ScheduleSegments) {
+  const ParsedControl p = parse_control(R"({"ca": [{"ca": 0.45, "hold": "steady"},
+      {"ca": 1.0, "hold": 5.0}, {"ramp": {"to": 2.5, "rate": 0.1}},
+      {"steps": {"to": 3.0, "by": 0.25, "hold": "steady"}}]})");
+  const auto& s = p.options.ca.segments;
+  ASSERT_EQ(s.size(), 4u);
+  EXPECT_EQ(s[0].kind, CaSegment::Kind::Hold);
+  EXPECT_TRUE(s[0].until_steady);
+  EXPECT_FALSE(s[1].until_steady);
+  EXPECT_DOUBLE_EQ(s[1].hold_time, 5.0);
+  EXPECT_EQ(s[2].kind, CaSegment::Kind::Ramp);
+  EXPECT_DOUBLE_EQ(s[2].rate, 0.1);
+  EXPECT_EQ(s[3].kind, CaSegment::Kind::Steps);
+  EXPECT_DOUBLE_EQ(s[3].by, 0.25);
+}
+
+TEST(ControlFile, ScheduleErrors) {
+  expect_contains(issue_at(R"({"ca": []})", "ca"), "non-empty list");
+  expect_contains(issue_at(R"({"ca": [{"ramp": {"to": 2, "rate": 0.1}}]})", "ca[0]"),
+                  "starting level");
+  expect_contains(issue_at(R"({"ca": [{"ca": 0.3}, {"ramp": {"to": 2}}]})", "ca[1].ramp"),
+                  "missing \"rate\"");
+  expect_contains(issue_at(R"({"ca": [{"ca": 0.3, "ramp": {"to": 1, "rate": 1}}]})", "ca[0]"),
+                  "exactly one");
+  expect_contains(issue_at(R"({"ca": [{"ca": 0.3, "hold": "forever"}]})", "ca[0].hold"),
+                  "\"steady\" or a time");
+  expect_contains(issue_at(R"({"ca": [{"ca": 0.3}, {"steps": {"to": 1, "by": 0}}]})", "ca[1].steps.by"),
+                  "out of range");
+  expect_contains(issue_at(R"({"ca": [{"ca": 0.3, "holdd": 1}]})", "ca[0].holdd"), "did you mean \"hold\"");
+}
+
+TEST(ControlFile, AllProblemsAreReportedTogether) {
+  try {
+    parse_control(R"({"ca": 0.4, "mesh": {"nb": 99, "elements": 5}, "time": {"dt": -1}})", "x.json");
+    FAIL();
+  } catch (const ControlError& e) {
+    EXPECT_EQ(e.issues().size(), 3u);
+    expect_contains(e.what(), "x.json: 3 problems");
+  }
+}
+
+TEST(ControlFile, TimeStepAboveStabilityEstimateWarns) {
+  const ParsedControl p = parse_control(R"({"ca": 0.05, "time": {"dt": 0.05}, "mesh": {"nb": 12}})");
+  bool warned = false;
+  for (const auto& w : p.warnings)
+    if (w.path == "time.dt") {
+      warned = true;
+      expect_contains(w.message, "stability estimate");
+    }
+  EXPECT_TRUE(warned);
+  const ParsedControl q = parse_control(R"({"ca": 0.45, "time": {"dt": 0.0005}})");
+  for (const auto& w : q.warnings) EXPECT_NE(w.path, "time.dt");
+}
+
+TEST(ControlFile, EffectiveFileRoundTrips) {
+  const ParsedControl p = parse_control(R"({"ca": [{"ca": 0.45, "hold": "steady"},
+      {"steps": {"to": 1.0, "by": 0.25, "hold": 2}}], "mesh": {"elements": 6, "nb": 9},
+      "output": {"mp4": {"fps": 12, "quality": 30}, "png": false}})");
+  const ParsedControl q = parse_control(to_json_text(p.options));
+  EXPECT_EQ(to_json_text(q.options), to_json_text(p.options));
+  EXPECT_EQ(q.options.output.mp4.fps, 12);
+  EXPECT_FALSE(q.options.output.png);
+  ASSERT_EQ(q.options.ca.segments.size(), 2u);
+  EXPECT_DOUBLE_EQ(q.options.ca.segments[1].hold_time, 2.0);
+}
+
+TEST(ControlFile, UnreadableFile) {
+  try {
+    load_control_file("/nonexistent/capflow.json");
+    FAIL();
+  } catch (const ControlError& e) {
+    expect_contains(e.what(), "cannot open");
+  }
+}
