@@ -20,6 +20,8 @@
 #include "control/schedule.h"
 #include "diagnostics/diagnostics.h"
 #include "membrane/membrane.h"
+#include "render/render_thread.h"
+#include "render/snapshot.h"
 
 namespace capflow::app {
 
@@ -50,6 +52,8 @@ struct Simulation::Impl {
   std::unique_ptr<capsule::Capsule> cap;
   std::unique_ptr<capsule::HealthMonitor> health;
   std::unique_ptr<control::CaScheduler> schedule;
+  std::unique_ptr<render::RenderThread> renderer;
+  long frames = 0;
   std::chrono::steady_clock::time_point start;
   bool tty = false;
 
@@ -86,6 +90,34 @@ struct Simulation::Impl {
       m.tau_min_at = cap->positions().col(imin);
     }
     return m;
+  }
+
+  render::Snapshot snapshot(const Measures& m, double ca) {
+    render::Snapshot sn;
+    sn.ne = mesh->ne();
+    sn.nb = mesh->nb();
+    const Eigen::Matrix3Xd& x = cap->positions();
+    sn.x.assign(x.data(), x.data() + x.size());
+    const membrane::MembraneFields f = cap->membrane().fields(x);
+    sn.tau1.assign(f.tension1.data(), f.tension1.data() + f.tension1.size());
+    sn.tau2.assign(f.tension2.data(), f.tension2.data() + f.tension2.size());
+    sn.time = cap->time();
+    sn.ca = ca;
+    sn.law = membrane::to_string(opt.law.kind);
+    sn.diag = {m.shape.D, m.shape.L, m.shape.S, m.shape.W, m.tau_max, m.tau_min};
+    return sn;
+  }
+
+  void submit_frame(const Measures& m, double ca) {
+    if (!renderer) return;
+    render::Snapshot sn = snapshot(m, ca);
+    sn.frame = frames++;
+    if (!renderer->submit_frame(std::move(sn))) {
+      say("renderer stopped: " + renderer->error() + "; frames are no longer written");
+      event({{"event", "warning"}, {"cause", "renderer"}, {"message", renderer->error()}});
+      renderer->stop();
+      renderer.reset();
+    }
   }
 
   void write_row(const Measures& m, double ca) {
@@ -147,6 +179,22 @@ Simulation::Simulation(const control::ControlOptions& options) : impl_(std::make
   s.cap = std::make_unique<capsule::Capsule>(*s.mesh, options.law, options.flow, d);
   s.health = std::make_unique<capsule::HealthMonitor>(*s.mesh, s.cap->positions());
   s.schedule = std::make_unique<control::CaScheduler>(options.ca, options.steady, 0.0);
+  const bool frames = options.output.frame_every > 0 && (options.output.png || options.output.mp4.enabled);
+  if (frames || options.render.preview) {
+    render::RenderOptions ro = options.render;
+    ro.png = frames && options.output.png;
+    ro.png_dir = (s.dir / "frames").string();
+    ro.mp4 = frames && options.output.mp4.enabled;
+    ro.mp4_path = (s.dir / "movie.mp4").string();
+    ro.fps = options.output.mp4.fps;
+    ro.crf = options.output.mp4.quality;
+    ro.preview_path = (s.dir / "preview.png").string();
+    if (ro.png) fs::create_directories(ro.png_dir);
+    std::string err;
+    if (!ro.IsValid(&err)) throw std::runtime_error("render options: " + err);
+    s.renderer = std::make_unique<render::RenderThread>();
+    s.renderer->start(ro, [&s](const std::string& line) { s.say(line); });
+  }
 }
 
 Simulation::~Simulation() = default;
@@ -175,6 +223,9 @@ RunSummary Simulation::run(const std::atomic<bool>* stop) {
   }
   Measures m = s.measure(true);
   s.write_row(m, s.schedule->ca(0.0));
+  const long frame_stride =
+      o.output.frame_every > 0 ? std::max(1L, static_cast<long>(std::llround(o.output.frame_every / dt))) : 0;
+  s.submit_frame(m, s.schedule->ca(0.0));
 
   double last_status = -1;
   std::string stop_reason = "t_end reached";
@@ -215,9 +266,12 @@ RunSummary Simulation::run(const std::atomic<bool>* stop) {
     }
     const long n = s.cap->step_count();
     const double t = s.cap->time();
-    const bool csv = n % csv_stride == 0 || n == total_steps;
+    const bool frame = frame_stride > 0 && n % frame_stride == 0;
+    const bool csv = n % csv_stride == 0 || n == total_steps || frame;
     if (csv || n % steady_stride == 0) {
       m = s.measure(csv);
+      if (frame) s.submit_frame(m, s.schedule->ca(t));
+      if (csv && s.renderer && o.render.preview) s.renderer->offer_preview(s.snapshot(m, s.schedule->ca(t)));
       const control::CaScheduler::Event ev =
           s.schedule->sample(t, m.shape.L, m.shape.S, m.shape.W);
       if (ev.steady) {
@@ -231,9 +285,7 @@ RunSummary Simulation::run(const std::atomic<bool>* stop) {
                  {"ca", s.schedule->ca(t)}, {"D", m.shape.D}, {"L", m.shape.L}});
       }
       if (csv) {
-        s.write_row(m, s.schedule->ca(t));
-        const double rate = 0.0;
-        (void)rate;
+        if (n % csv_stride == 0 || n == total_steps) s.write_row(m, s.schedule->ca(t));
         const capsule::HealthReport w =
             s.health->check_wrinkling(t, m.tau_min, m.tau_min_at, s.schedule->max_rate());
         if (w.level == capsule::HealthLevel::Warning) {
@@ -262,6 +314,16 @@ RunSummary Simulation::run(const std::atomic<bool>* stop) {
   }
   m = s.measure(true);
   if (s.cap->step_count() % csv_stride != 0) s.write_row(m, s.schedule->ca(s.cap->time()));
+  if (s.renderer) {
+    const render::RenderStats rs = s.renderer->stop();
+    std::ostringstream r;
+    r << "renderer: " << rs.movie_frames << " movie frames written";
+    if (o.output.mp4.enabled && frame_stride > 0) r << " (movie.mp4)";
+    r << ", solver waited " << rs.producer_waits << " times for the renderer";
+    if (!s.renderer->error().empty()) r << "; error: " << s.renderer->error();
+    s.say(r.str());
+    s.renderer.reset();
+  }
   sum.t = s.cap->time();
   sum.steps = s.cap->step_count();
   sum.wall_s = s.wall();

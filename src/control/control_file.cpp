@@ -423,6 +423,46 @@ ParsedControl parse_control(const std::string& text, const std::string& source) 
     r.finish();
   }
   {
+    Reader r = root.object("render");
+    render::RenderOptions& ro = o.render;
+    r.integer("width", &ro.width, 16, 7680, "the frame width in pixels");
+    r.integer("height", &ro.height, 16, 4320, "the frame height in pixels");
+    if (ro.width % 2) r.error("width", "value " + std::to_string(ro.width) + " is odd: movies need even sizes");
+    if (ro.height % 2) r.error("height", "value " + std::to_string(ro.height) + " is odd: movies need even sizes");
+    const int view = r.choice("view", {"oblique", "xy", "xz", "yz"});
+    if (view >= 0) ro.camera.view = static_cast<render::View>(view);
+    r.boolean("orthographic", &ro.camera.orthographic);
+    const int field = r.choice("field", {"max-tension", "min-tension", "mean-tension", "plain"});
+    if (field >= 0) ro.field = static_cast<render::ColorField>(field);
+    const int cmap = r.choice("colormap", {"viridis", "coolwarm"});
+    if (cmap >= 0) ro.colormap = static_cast<render::ColorMap>(cmap);
+    if (const json* range = r.get("range")) {
+      if (range->is_string() && range->get<std::string>() == "auto") {
+        ro.auto_range = true;
+      } else if (range->is_array() && range->size() == 2 && (*range)[0].is_number() &&
+                 (*range)[1].is_number() && (*range)[0].get<double>() < (*range)[1].get<double>()) {
+        ro.auto_range = false;
+        ro.range_min = (*range)[0].get<double>();
+        ro.range_max = (*range)[1].get<double>();
+      } else {
+        r.error("range", "value " + show(*range) + " is not valid: range must be \"auto\" or "
+                         "[min, max] with min < max");
+      }
+    }
+    r.boolean("element_lines", &ro.element_lines);
+    {
+      Reader ov = r.object("overlay");
+      ov.boolean("colorbar", &ro.overlay_colorbar);
+      ov.boolean("text", &ro.overlay_text);
+      ov.finish();
+    }
+    const int backend = r.choice("backend", {"auto", "egl", "osmesa"});
+    if (backend >= 0) ro.backend = static_cast<render::Backend>(backend);
+    r.integer("msaa", &ro.msaa, 0, 16, "the multisample count");
+    r.boolean("preview", &ro.preview);
+    r.finish();
+  }
+  {
     Reader r = root.object("numerics");
     r.boolean("smoothing", &o.numerics.smoothing);
     r.boolean("volume_correction", &o.numerics.volume_correction);
@@ -509,6 +549,25 @@ std::string to_json_text(const ControlOptions& o) {
                    {"volume_correction", o.numerics.volume_correction},
                    {"symmetry", o.numerics.symmetry},
                    {"threads", o.numerics.threads}};
+  {
+    const render::RenderOptions& ro = o.render;
+    static const char* views[] = {"oblique", "xy", "xz", "yz", "oblique"};
+    static const char* fields[] = {"max-tension", "min-tension", "mean-tension", "plain"};
+    static const char* cmaps[] = {"viridis", "coolwarm"};
+    static const char* backends[] = {"auto", "egl", "osmesa"};
+    j["render"] = {{"width", ro.width},
+                   {"height", ro.height},
+                   {"view", views[static_cast<int>(ro.camera.view)]},
+                   {"orthographic", ro.camera.orthographic},
+                   {"field", fields[static_cast<int>(ro.field)]},
+                   {"colormap", cmaps[static_cast<int>(ro.colormap)]},
+                   {"range", ro.auto_range ? json("auto") : json::array({ro.range_min, ro.range_max})},
+                   {"element_lines", ro.element_lines},
+                   {"overlay", {{"colorbar", ro.overlay_colorbar}, {"text", ro.overlay_text}}},
+                   {"backend", backends[static_cast<int>(ro.backend)]},
+                   {"msaa", ro.msaa},
+                   {"preview", ro.preview}};
+  }
   j["run"] = {{"state", to_string(o.run.state)}, {"checkpoint_now", o.run.checkpoint_now}};
   return j.dump(2) + "\n";
 }

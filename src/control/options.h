@@ -12,6 +12,8 @@
 
 #include "capsule/flow.h"
 #include "membrane/law.h"
+#include "render/context.h"
+#include "render/options.h"
 
 namespace capflow::control {
 
@@ -84,6 +86,13 @@ struct RunOptions {
   bool checkpoint_now = false;         // "run.checkpoint_now": write a checkpoint once
 };
 
+// "render": how frames look (the renderer's own typed options; output paths are set by the run):
+//   width, height (even, 16..7680), view ("oblique" | "xy" | "xz" | "yz"), orthographic (bool),
+//   field ("max-tension" | "min-tension" | "mean-tension" | "plain"), colormap ("viridis" |
+//   "coolwarm"), range ("auto" or [min, max]), element_lines (bool), overlay {"colorbar": bool,
+//   "text": bool}, backend ("auto" | "egl" | "osmesa"), msaa (0..16), preview (bool: keep
+//   preview.png in the run directory up to date without ever blocking the solver).
+
 struct ControlOptions {
   membrane::LawOptions law;           // "capsule.law", "capsule.C", "capsule.psi"
   double viscosity_ratio = 1.0;       // "capsule.viscosity_ratio": only 1 is implemented
@@ -94,6 +103,7 @@ struct ControlOptions {
   SteadyOptions steady;
   OutputOptions output;
   NumericsOptions numerics;
+  render::RenderOptions render;       // "render"
   RunOptions run;
 };
 
