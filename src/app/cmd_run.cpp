@@ -1,6 +1,9 @@
-// capflow run CONTROL.json: simulate the capsule as the control file says (see README,
-// "Control file"). Exit codes: 0 done, 2 invalid control file or arguments, 4 the simulation
-// failed (the message names the cause, time and location; the last good state is kept).
+// capflow run CONTROL.json | --resume RUN_DIR: simulate the capsule as the control file says (see
+// README, "Control file"); the control file is watched and edits steer the run.
+// Signals: the first SIGINT/SIGTERM finishes the current step, writes a checkpoint, finalises the
+// movie and exits with a summary; a second one exits at once (the fragmented MP4 stays playable).
+// Exit codes: 0 done, 2 invalid control file or arguments, 4 the simulation failed (the message
+// names the cause, time and location; the last good state is kept and checkpointed).
 #include <atomic>
 #include <csignal>
 #include <iostream>
@@ -26,29 +29,52 @@ extern "C" void on_signal(int sig) {
 struct RunArgs {
   std::string control;
   std::string output_dir;
+  std::string resume;
+  double t_end = -1;
 };
 
 void run_cmd(const RunArgs& a) {
-  control::ParsedControl parsed;
-  try {
-    parsed = control::load_control_file(a.control);
-  } catch (const control::ControlError& e) {
-    throw UserError(e.what());
+  std::unique_ptr<Simulation> sim;
+  if (!a.resume.empty()) {
+    if (!a.control.empty() || !a.output_dir.empty())
+      throw UserError("--resume RUN_DIR takes no control file or --output: the run directory "
+                      "holds both (edit its control file to steer)");
+    ResumeOverrides ov;
+    if (a.t_end > 0) ov.t_end = a.t_end;
+    try {
+      sim = Simulation::resume(a.resume, ov);
+    } catch (const std::exception& e) {
+      throw UserError(std::string("cannot resume: ") + e.what());
+    }
+  } else {
+    if (a.control.empty()) throw UserError("give a control file (capflow run CONTROL.json) or --resume RUN_DIR");
+    control::ParsedControl parsed;
+    try {
+      parsed = control::load_control_file(a.control);
+    } catch (const control::ControlError& e) {
+      throw UserError(e.what());
+    }
+    if (!a.output_dir.empty()) parsed.options.output.dir = a.output_dir;
+    if (a.t_end > 0) parsed.options.time.t_end = a.t_end;
+    for (const auto& w : parsed.warnings) std::cerr << "capflow: warning: " << w.str() << "\n";
+    sim = std::make_unique<Simulation>(parsed.options, a.control);
   }
-  if (!a.output_dir.empty()) parsed.options.output.dir = a.output_dir;
-  for (const auto& w : parsed.warnings) std::cerr << "capflow: warning: " << w.str() << "\n";
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
-  Simulation sim(parsed.options);
-  const RunSummary s = sim.run(&g_stop);
+  const RunSummary s = sim->run(&g_stop);
   if (s.failed) set_exit_code(4);
 }
 
 void setup_run(CLI::App& root) {
   auto args = std::make_shared<RunArgs>();
   CLI::App* c = root.add_subcommand("run", "Simulate a capsule as the control file says");
-  c->add_option("control", args->control, "Control file (JSON)")->required()->check(CLI::ExistingFile);
+  c->add_option("control", args->control, "Control file (JSON); watched for live edits")
+      ->check(CLI::ExistingFile);
   c->add_option("-o,--output", args->output_dir, "Run directory (overrides output.dir)");
+  c->add_option("--resume", args->resume, "Continue the run in RUN_DIR from its newest checkpoint")
+      ->check(CLI::ExistingDirectory);
+  c->add_option("--t-end", args->t_end, "End time (overrides time.t_end; with --resume: extend)")
+      ->check(CLI::PositiveNumber);
   c->callback([args] { run_cmd(*args); });
 }
 

@@ -15,6 +15,7 @@
 
 #include <Eigen/Dense>
 #include <string>
+#include <vector>
 
 #include "geometry/mesh.h"
 
@@ -48,6 +49,18 @@ class HealthMonitor {
                                double d_rate);
 
   double oscillation_indicator(const Eigen::Matrix3Xd& x) const;
+
+  // State for checkpoints: last good normals (3 x num_local) and the flags.
+  const Eigen::Matrix3Xd& normals() const { return normals_; }
+  std::vector<double> flags() const {
+    return {warned_oscillation_ ? 1.0 : 0.0, warned_wrinkle_ ? 1.0 : 0.0, compressive_since_};
+  }
+  void restore(const Eigen::Matrix3Xd& normals, const std::vector<double>& flags) {
+    normals_ = normals;
+    warned_oscillation_ = flags.at(0) != 0;
+    warned_wrinkle_ = flags.at(1) != 0;
+    compressive_since_ = flags.at(2);
+  }
 
  private:
   const geometry::Mesh& mesh_;

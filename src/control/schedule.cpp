@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
 
 namespace capflow::control {
 
@@ -131,6 +132,33 @@ void CaScheduler::replace(const CaSchedule& schedule, const SteadyOptions& stead
   level_ = current;
   final_reported_ = false;
   start_segment(0, t);
+}
+
+std::vector<double> CaScheduler::state() const {
+  std::vector<double> v = {static_cast<double>(segment_), level_, level_start_,
+                           static_cast<double>(step_index_), final_reported_ ? 1.0 : 0.0, rate_,
+                           prev_rate_, prev_rate_t_, static_cast<double>(samples_.size())};
+  for (const Sample& s : samples_) v.insert(v.end(), {s.t, s.L, s.S, s.W});
+  return v;
+}
+
+void CaScheduler::restore(const std::vector<double>& v) {
+  if (v.size() < 9 || v.size() != 9 + 4 * static_cast<size_t>(v[8]))
+    throw std::invalid_argument("schedule state: malformed (" + std::to_string(v.size()) + " values)");
+  if (v[0] < 0 || v[0] > static_cast<double>(schedule_.segments.size()))
+    throw std::invalid_argument("schedule state: segment index " + std::to_string(v[0]) +
+                                " does not fit the schedule (" +
+                                std::to_string(schedule_.segments.size()) + " segments)");
+  segment_ = static_cast<int>(v[0]);
+  level_ = v[1];
+  level_start_ = v[2];
+  step_index_ = static_cast<int>(v[3]);
+  final_reported_ = v[4] != 0;
+  rate_ = v[5];
+  prev_rate_ = v[6];
+  prev_rate_t_ = v[7];
+  samples_.clear();
+  for (size_t k = 9; k < v.size(); k += 4) samples_.push_back({v[k], v[k + 1], v[k + 2], v[k + 3]});
 }
 
 }  // namespace capflow::control

@@ -15,6 +15,7 @@
 
 #include <deque>
 #include <string>
+#include <vector>
 
 #include "control/options.h"
 
@@ -48,6 +49,11 @@ class CaScheduler {
   // Replaces the schedule mid-run (live edit): the new segments start at time t from the current
   // Ca. Steady-state bookkeeping restarts.
   void replace(const CaSchedule& schedule, const SteadyOptions& steady, double t);
+
+  // The engine's full state as numbers (for checkpoints; the schedule itself is not included)
+  // and its restoration: restore(state()) continues bit for bit.
+  std::vector<double> state() const;
+  void restore(const std::vector<double>& state);  // throws std::invalid_argument if malformed
 
  private:
   void start_segment(int index, double t);

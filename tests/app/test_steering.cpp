@@ -1,0 +1,157 @@
+// Live steering and signals, through the capflow executable:
+//  * an in-place rewrite and a rename-save of the control file change Ca from the logged
+//    simulated time on (checked in timeseries.csv and events.jsonl);
+//  * an invalid edit is refused, logged, and leaves the run unharmed;
+//  * SIGINT finishes the step, writes a checkpoint and a playable movie.
+#include <gtest/gtest.h>
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <nlohmann/json.hpp>
+
+#include "test_util.h"
+
+extern char** environ;
+
+using namespace capflow;
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+namespace {
+
+pid_t spawn(const std::vector<std::string>& args, const fs::path& log) {
+  std::vector<char*> argv;
+  for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  posix_spawn_file_actions_addopen(&fa, 2, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
+  pid_t pid = -1;
+  EXPECT_EQ(posix_spawn(&pid, argv[0], &fa, nullptr, argv.data(), environ), 0);
+  posix_spawn_file_actions_destroy(&fa);
+  return pid;
+}
+
+int wait_exit(pid_t pid, double seconds) {
+  int status = 0;
+  const bool done = test::wait_for([&] { return waitpid(pid, &status, WNOHANG) == pid; }, seconds);
+  if (!done) {
+    kill(pid, SIGKILL);
+    waitpid(pid, &status, 0);
+    return -1;
+  }
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+std::vector<json> events(const fs::path& run) {
+  std::vector<json> out;
+  for (const auto& l : test::lines_of(run / "events.jsonl"))
+    if (!l.empty()) out.push_back(json::parse(l));
+  return out;
+}
+
+int count_events(const fs::path& run, const std::string& kind) {
+  int n = 0;
+  for (const auto& e : events(run)) n += e["event"] == kind;
+  return n;
+}
+
+long csv_rows(const fs::path& p) { return static_cast<long>(test::lines_of(p).size()) - 1; }
+
+std::string control(double ca, const std::string& extra = "") {
+  return R"({"capsule": {"law": "skalak"}, "mesh": {"elements": 6, "nb": 6},
+    "time": {"dt": 0.002, "t_end": 1000}, "ca": )" + std::to_string(ca) +
+         R"(, "output": {"dir": "run", "csv_every": 0.002}, "numerics": {"threads": 1})" + extra + "}";
+}
+
+}  // namespace
+
+TEST(Steering, EditsChangeCaFromTheLoggedTimeAndBadEditsAreHarmless) {
+  const fs::path d = test::fresh_dir("steer");
+  const fs::path ctl = d / "control.json", run = d / "run";
+  test::write_file(ctl, control(0.3));
+  const pid_t pid = spawn({CAPFLOW_EXE, "run", ctl.string(), "-o", run.string()}, d / "stderr.log");
+  ASSERT_TRUE(test::wait_for([&] { return csv_rows(run / "timeseries.csv") >= 5; }, 60));
+
+  // 1. In-place rewrite.
+  test::write_file(ctl, control(0.5));
+  ASSERT_TRUE(test::wait_for([&] { return count_events(run, "edit") >= 1; }, 10)) << test::read_file(d / "stderr.log");
+  // 2. Invalid edit: refused and logged; the run goes on.
+  test::write_file(ctl, R"({"ca": -1, "mesh": {"elements": 6, "nb": 6}})");
+  ASSERT_TRUE(test::wait_for([&] { return count_events(run, "edit") >= 2; }, 10));
+  const long rows_after_bad = csv_rows(run / "timeseries.csv");
+  ASSERT_TRUE(test::wait_for([&] { return csv_rows(run / "timeseries.csv") > rows_after_bad + 3; }, 30));
+  // 3. Rename-save (write a temporary file, rename it over the control file).
+  test::write_file(d / "control.json.new", control(0.7));
+  fs::rename(d / "control.json.new", ctl);
+  ASSERT_TRUE(test::wait_for([&] { return count_events(run, "edit") >= 3; }, 10));
+  const long rows_after_rename = csv_rows(run / "timeseries.csv");
+  ASSERT_TRUE(test::wait_for([&] { return csv_rows(run / "timeseries.csv") > rows_after_rename + 3; }, 30));
+  // 4. Stop through the control file.
+  test::write_file(ctl, control(0.7, R"(, "run": {"state": "stopped"})"));
+  EXPECT_EQ(wait_exit(pid, 30), 0) << test::read_file(d / "stderr.log");
+
+  std::vector<json> edits;
+  for (const auto& e : events(run))
+    if (e["event"] == "edit") edits.push_back(e);
+  ASSERT_GE(edits.size(), 4u);
+  EXPECT_TRUE(edits[0]["accepted"].get<bool>());
+  EXPECT_FALSE(edits[1]["accepted"].get<bool>());
+  EXPECT_NE(edits[1]["errors"].dump().find("ca"), std::string::npos);
+  EXPECT_TRUE(edits[2]["accepted"].get<bool>());
+  const double t1 = edits[0]["t"], t3 = edits[2]["t"];
+  ASSERT_LT(t1, t3);
+  // Ca in the time series follows the edits from the logged times on.
+  int checked = 0;
+  for (const auto& l : test::lines_of(run / "timeseries.csv")) {
+    if (l[0] == 't') continue;
+    double t, ca;
+    ASSERT_EQ(std::sscanf(l.c_str(), "%lf,%lf", &t, &ca), 2);
+    const double expect = t <= t1 + 1e-12 ? 0.3 : (t <= t3 + 1e-12 ? 0.5 : 0.7);
+    EXPECT_NEAR(ca, expect, 1e-12) << "t = " << t;
+    ++checked;
+  }
+  EXPECT_GT(checked, 15);
+  // The effective control file holds the last accepted Ca.
+  EXPECT_NE(test::read_file(run / "control.json").find("0.7"), std::string::npos);
+  fs::remove_all(d);
+}
+
+TEST(Signals, SigintWritesACheckpointAndAPlayableMovie) {
+  const fs::path d = test::fresh_dir("sigint");
+  const fs::path ctl = d / "control.json", run = d / "run";
+  test::write_file(ctl, R"({"mesh": {"elements": 6, "nb": 6}, "time": {"dt": 0.004, "t_end": 1000},
+    "ca": 0.4, "output": {"csv_every": 0.04, "frame_every": 0.008, "png": false,
+    "mp4": {"fps": 10}}, "render": {"width": 160, "height": 120, "msaa": 0},
+    "numerics": {"threads": 1}})");
+  const pid_t pid = spawn({CAPFLOW_EXE, "run", ctl.string(), "-o", run.string()}, d / "stderr.log");
+  ASSERT_TRUE(test::wait_for([&] { return csv_rows(run / "timeseries.csv") >= 3; }, 60))
+      << test::read_file(d / "stderr.log");
+  kill(pid, SIGINT);
+  EXPECT_EQ(wait_exit(pid, 60), 0) << test::read_file(d / "stderr.log");
+  const std::string log = test::read_file(d / "stderr.log");
+  EXPECT_NE(log.find("stopped by signal"), std::string::npos) << log;
+  bool has_ckpt = false;
+  for (const auto& e : fs::directory_iterator(run / "checkpoints")) has_ckpt |= e.path().extension() == ".ckpt";
+  EXPECT_TRUE(has_ckpt);
+  // ffprobe: h264, yuv420p, and as many frames as the renderer reported.
+  const std::string probe = (d / "probe.txt").string();
+  const std::string cmd = "ffprobe -v error -count_frames -select_streams v:0 -show_entries "
+                          "stream=codec_name,pix_fmt,nb_read_frames -of default=nw=1 " +
+                          (run / "movie.mp4").string() + " > " + probe + " 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << test::read_file(probe);
+  const std::string p = test::read_file(probe);
+  EXPECT_NE(p.find("codec_name=h264"), std::string::npos) << p;
+  EXPECT_NE(p.find("pix_fmt=yuv420p"), std::string::npos) << p;
+  const auto pos = log.find("renderer: ");
+  ASSERT_NE(pos, std::string::npos) << log;
+  const long written = std::atol(log.c_str() + pos + 10);
+  EXPECT_GT(written, 0);
+  EXPECT_NE(p.find("nb_read_frames=" + std::to_string(written)), std::string::npos) << p << log;
+  fs::remove_all(d);
+}
