@@ -20,16 +20,24 @@ using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowM
 namespace {
 
 constexpr int kMaxNb = 64;
+constexpr int kMaxEdge = 256;  // Gauss points along an edge
 
-// Perpendicular/sinh polar rule around p0 = (s0, t0) in [-1,1]^2 (see the header). hc = 0:
-// plain Gauss along each ray (own element); hc > 0: radial sinh map with scale hc (param units).
-void polar_rule(double s0, double t0, double hc, const spectral::Rule& ge,
-                const spectral::Rule& gr, std::vector<double>& S, std::vector<double>& T,
-                std::vector<double>& W) {
-  S.clear();
-  T.clear();
-  W.clear();
-  // Edges: (foot, perpendicular distance, edge direction axis).
+using LineRule = BoundaryOperators::Rule;
+
+// Perpendicular/sinh polar rule around p0 = (s0, t0) in [-1,1]^2 (see the header), built as
+// lines: along every ray p0 -> edge point the coordinate perpendicular to that edge depends
+// only on the ray fraction u, so for a fixed u the points of the two triangles on one edge
+// form a line of constant s (edges s = +-1) or constant t (edges t = +-1).
+// hu[edge] <= 0: plain Gauss in u (own element); hu > 0: radial sinh map u = hu sinh(sigma)
+// (near elements), sigma in [0, asinh(1/hu)] split into panels of length <= 6.
+// Edges in the order s = -1, s = +1 (constant-s lines), t = -1, t = +1 (constant-t lines).
+void polar_rule(double s0, double t0, const double* hu, const spectral::Rule& ge,
+                const spectral::Rule& gr, LineRule& R) {
+  R.c.clear();
+  R.start.clear();
+  R.o.clear();
+  R.w.clear();
+  R.n0 = -1;
   struct Edge {
     double fs, ft, d;
     int axis;  // 0: edge runs along s, 1: along t
@@ -43,53 +51,122 @@ void polar_rule(double s0, double t0, double hc, const spectral::Rule& ge,
   };
   constexpr double kTiny = 1e-14;
   constexpr double kPanel = 6.0;
-  for (const Edge& E : edges) {
+  const int nge = static_cast<int>(ge.x.size()), ngr = static_cast<int>(gr.x.size());
+  for (int ei = 0; ei < 4; ++ei) {
+    if (ei == 2) R.n0 = static_cast<int>(R.c.size());
+    const Edge& E = edges[ei];
     if (E.d < kTiny) continue;
-    for (int dir = -1; dir <= 1; dir += 2) {
-      const double L = dir < 0 ? E.lo : E.hi;
+    const double h = hu[ei];
+    const double sig_max = h > 0.0 ? std::asinh(1.0 / h) : 0.0;
+    const int panels = h > 0.0 ? std::max(1, static_cast<int>(std::ceil(sig_max / kPanel))) : 1;
+    const double dsig = sig_max / panels;
+    // coordinate along the edge of the foot and of p0 (the same), and across
+    const double p_along = E.axis == 1 ? t0 : s0;
+    const double p_across = E.axis == 1 ? s0 : t0;
+    const double f_across = E.axis == 1 ? E.fs : E.ft;
+    // edge points (along-edge offset from the foot, times the Jacobian weight), per side
+    double off[2][kMaxEdge], wedge[2][kMaxEdge];
+    int cnt[2] = {0, 0};
+    for (int k = 0; k < 2; ++k) {
+      const double L = k == 0 ? E.lo : E.hi;
       if (L < kTiny) continue;
       const double tau_max = std::asinh(L / E.d);
-      for (int a = 0; a < ge.x.size(); ++a) {
+      const double dir = k == 0 ? -1.0 : 1.0;
+      for (int a = 0; a < nge; ++a) {
         const double tau = 0.5 * tau_max * (ge.x[a] + 1.0);
         const double wt = 0.5 * tau_max * ge.w[a];
-        const double sv = E.d * std::sinh(tau);
-        const double js = E.d * std::cosh(tau);
-        const double ps = E.axis == 0 ? E.fs + dir * sv : E.fs;
-        const double pt = E.axis == 1 ? E.ft + dir * sv : E.ft;
-        const double as = ps - s0, at = pt - t0;
-        const double ell = std::sqrt(as * as + at * at);
-        // Radial sinh map: sigma in [0, asinh(l/hc)], split into panels of length <= kPanel
-        // (the integrand grows like e^sigma, so very small hc needs more than one panel).
-        const double sig_max = hc > 0.0 ? std::asinh(ell / hc) : 0.0;
-        const int panels = hc > 0.0 ? std::max(1, static_cast<int>(std::ceil(sig_max / kPanel))) : 1;
-        const double dsig = sig_max / panels;
-        for (int pan = 0; pan < panels; ++pan)
-          for (int b = 0; b < gr.x.size(); ++b) {
-            double u, wu;
-            if (hc <= 0.0) {
-              u = 0.5 * (gr.x[b] + 1.0);
-              wu = 0.5 * gr.w[b];
-            } else {
-              const double sig = dsig * (pan + 0.5 * (gr.x[b] + 1.0));
-              u = (hc / ell) * std::sinh(sig);
-              wu = 0.5 * dsig * gr.w[b] * (hc / ell) * std::cosh(sig);
-            }
-            S.push_back(s0 + u * as);
-            T.push_back(t0 + u * at);
-            W.push_back(wt * js * E.d * u * wu);
+        off[k][a] = dir * E.d * std::sinh(tau);
+        wedge[k][a] = wt * E.d * std::cosh(tau) * E.d;
+      }
+      cnt[k] = nge;
+    }
+    for (int pan = 0; pan < panels; ++pan)
+      for (int b = 0; b < ngr; ++b) {
+        double u, wu;
+        if (h <= 0.0) {
+          u = 0.5 * (gr.x[b] + 1.0);
+          wu = 0.5 * gr.w[b];
+        } else {
+          const double sig = dsig * (pan + 0.5 * (gr.x[b] + 1.0));
+          const double ex = std::exp(sig), sh = 0.5 * (ex - 1.0 / ex), ch = 0.5 * (ex + 1.0 / ex);
+          u = h * (sig < 1e-3 ? std::sinh(sig) : sh);
+          wu = 0.5 * dsig * gr.w[b] * h * ch;
+        }
+        R.c.push_back(p_across + u * (f_across - p_across));
+        R.start.push_back(static_cast<int>(R.o.size()));
+        for (int k = 0; k < 2; ++k)
+          for (int a = 0; a < cnt[k]; ++a) {
+            R.o.push_back(p_along + u * off[k][a]);
+            R.w.push_back(wedge[k][a] * u * wu);
           }
       }
+  }
+  R.start.push_back(static_cast<int>(R.o.size()));
+}
+
+// Lagrange basis l_j(t) and l_j'(t) through the Gauss-Lobatto nodes (barycentric form).
+// Far from the nodes the derivative uses l_j' = l_j (sum_k l_k/(t - x_k) - 1/(t - x_j))
+// (relative error ~ eps / min |t - x_k|); within 1e-2 of a node it uses l' = D^T l (D the
+// differentiation matrix, exact for the degree nb-2 derivative).
+void basis(const geometry::Mesh& mesh, double t, double* l, double* dl) {
+  const int n = mesh.nb();
+  const double* x = mesh.nodes().data();
+  const double* bw = mesh.bary().data();
+  double inv[kMaxNb];
+  double nearest = 2.0;
+  for (int j = 0; j < n; ++j) nearest = std::min(nearest, std::abs(t - x[j]));
+  if (nearest == 0.0) {
+    spectral::lagrange_basis(mesh.nodes(), mesh.bary(), t, l, dl);
+    return;
+  }
+  double S = 0.0;
+  for (int j = 0; j < n; ++j) {
+    inv[j] = 1.0 / (t - x[j]);
+    l[j] = bw[j] * inv[j];
+    S += l[j];
+  }
+  const double iS = 1.0 / S;
+  double T = 0.0;
+  for (int j = 0; j < n; ++j) {
+    l[j] *= iS;
+    T += l[j] * inv[j];
+  }
+  if (nearest >= 1e-2) {
+    for (int j = 0; j < n; ++j) dl[j] = l[j] * (T - inv[j]);
+  } else {
+    const MatrixXd& D = mesh.diff();  // D(m, k) = l_k'(x_m)
+    for (int k = 0; k < n; ++k) {
+      const double* col = D.col(k).data();
+      double v = 0.0;
+      for (int m = 0; m < n; ++m) v += l[m] * col[m];
+      dl[k] = v;
     }
   }
 }
 
-void fill_bases(const geometry::Mesh& mesh, const double* s, const double* t, int np,
-                MatrixXd& ls, MatrixXd& dls, MatrixXd& lt, MatrixXd& dlt) {
+// Bases of a line rule (Lc, dLc at the line coordinates; LoT, dLoT at the points). The
+// matrices are resized only when they are too small (scratch reuse).
+void fill_bases(const geometry::Mesh& mesh, LineRule& R) {
+  const int nb = mesh.nb(), nl = R.nl(), np = R.np();
+  if (R.Lc.cols() < nl) {
+    R.Lc.resize(nb, nl);
+    R.dLc.resize(nb, nl);
+  }
+  for (int l = 0; l < nl; ++l) basis(mesh, R.c[l], R.Lc.col(l).data(), R.dLc.col(l).data());
+  if (R.LoT.rows() < np) {  // leading dimension = rows (may exceed np)
+    R.LoT.resize(np, nb);
+    R.dLoT.resize(np, nb);
+  }
+  const long ld = R.LoT.rows();
+  double l[kMaxNb], dl[kMaxNb];
+  double* L = R.LoT.data();
+  double* dL = R.dLoT.data();
   for (int p = 0; p < np; ++p) {
-    spectral::lagrange_basis(mesh.nodes(), mesh.bary(), s[p], ls.col(p).data(),
-                             dls.col(p).data());
-    spectral::lagrange_basis(mesh.nodes(), mesh.bary(), t[p], lt.col(p).data(),
-                             dlt.col(p).data());
+    basis(mesh, R.o[p], l, dl);
+    for (int j = 0; j < nb; ++j) {
+      L[p + ld * j] = l[j];
+      dL[p + ld * j] = dl[j];
+    }
   }
 }
 
@@ -139,7 +216,7 @@ Eval2 eval2(const geometry::Mesh& mesh, const Matrix3Xd& x, int e, double s, dou
 
 // Nearest point of element e to x0 (Newton from the nearest node, clipped to the square).
 void nearest_point(const geometry::Mesh& mesh, const Matrix3Xd& x, int e, const Vector3d& x0,
-                   double& s, double& t, double& h, double& c) {
+                   double& s, double& t, double& h, Vector3d& xs, Vector3d& xt) {
   const int nb = mesh.nb();
   const int base = e * nb * nb;
   int best = 0;
@@ -177,7 +254,8 @@ void nearest_point(const geometry::Mesh& mesh, const Matrix3Xd& x, int e, const 
     if (step < 1e-13) break;
   }
   h = (p.x - x0).norm();
-  c = std::sqrt(p.xs.norm() * p.xt.norm());
+  xs = p.xs;
+  xt = p.xt;
 }
 
 // Far-field data at the Gauss points, row-major rows:
@@ -231,49 +309,160 @@ constexpr bool uses_density(BoundaryOperators::Mode m) {
 }
 
 struct Scratch {
-  MatrixXd P, M, Md, ls, dls, lt, dlt;
-  std::vector<double> s, t, w;
-  std::vector<int> near_e;
-  std::vector<double> near_s, near_t, near_hc;
+  MatrixXd D0, D1;  // element data, nb x (K nb): D0(i, k nb + j) = D1(j, k nb + i) = X_k(i, j)
+  RowMat A, B;      // stage 1: values / derivative across, per line
+  std::vector<double> v;  // stage 2 per line: 12 arrays of the line's length
+  LineRule near;
 };
 
-// Sum the kernel over the points of one special rule. P: nb x (K nb) element data in the
-// rule's orientation; sign: orientation of the rule's (s, t) relative to the element's.
+// Element data (x and, if K == 6, the density) in the orientation given by perm (canonical
+// (a + nb b) -> local node within the element).
+void load_element(int nb, int K, const Matrix3Xd& x, const Matrix3Xd* dens, int base,
+                  const int* perm, Scratch& sc) {
+  for (int b = 0; b < nb; ++b)
+    for (int a = 0; a < nb; ++a) {
+      const int src = base + (perm ? perm[a + nb * b] : a + nb * b);
+      for (int c = 0; c < 3; ++c) {
+        sc.D0(a, c * nb + b) = x(c, src);
+        sc.D1(b, c * nb + a) = x(c, src);
+      }
+      if (K == 6)
+        for (int c = 0; c < 3; ++c) {
+          sc.D0(a, (3 + c) * nb + b) = (*dens)(c, src);
+          sc.D1(b, (3 + c) * nb + a) = (*dens)(c, src);
+        }
+    }
+}
+
+// Sum the kernel over the points of one line rule; the element data are in sc.D0/D1 (in the
+// rule's orientation); sign: orientation of the rule's (s, t) relative to the element's.
+// Stage 1: for every line, the 1-D interpolation across the lines (dense products
+// Lc^T D: lines x (K nb)); stage 2: per point, length-nb dot products along the line.
 template <BoundaryOperators::Mode M>
-void special_sum(int nb, const MatrixXd& P, int K, const MatrixXd& ls, const MatrixXd& dls,
-                 const MatrixXd& lt, const MatrixXd& dlt, const double* w, int np, double sign,
-                 const Vector3d& x0, const Vector3d& u0, Scratch& sc, double* acc) {
-  sc.M.topLeftCorner(K * nb, np).noalias() = P.leftCols(K * nb).transpose() * ls.leftCols(np);
-  sc.Md.topLeftCorner(3 * nb, np).noalias() = P.leftCols(3 * nb).transpose() * dls.leftCols(np);
-  for (int p = 0; p < np; ++p) {
-    const double* m = sc.M.col(p).data();
-    const double* md = sc.Md.col(p).data();
-    const double* l = lt.col(p).data();
-    const double* dl = dlt.col(p).data();
-    double xv[3], xs[3], xt[3], dv[3] = {0, 0, 0};
-    for (int k = 0; k < 3; ++k) {
-      double a = 0, b = 0, c = 0;
-      for (int j = 0; j < nb; ++j) {
-        a += m[k * nb + j] * l[j];
-        b += md[k * nb + j] * l[j];
-        c += m[k * nb + j] * dl[j];
+void line_sum(int nb, int K, const LineRule& R, double sign, const Vector3d& x0,
+              const Vector3d& u0, Scratch& sc, double* acc) {
+  using Mode = BoundaryOperators::Mode;
+  const int nl = R.nl(), n0 = R.n0, n1 = nl - n0;
+  const int Kn = K * nb, n3 = 3 * nb;
+  if (n0 > 0) {
+    sc.A.topLeftCorner(n0, Kn).noalias() = R.Lc.leftCols(n0).transpose() * sc.D0.leftCols(Kn);
+    sc.B.topLeftCorner(n0, n3).noalias() = R.dLc.leftCols(n0).transpose() * sc.D0.leftCols(n3);
+  }
+  if (n1 > 0) {
+    sc.A.block(n0, 0, n1, Kn).noalias() =
+        R.Lc.middleCols(n0, n1).transpose() * sc.D1.leftCols(Kn);
+    sc.B.block(n0, 0, n1, n3).noalias() =
+        R.dLc.middleCols(n0, n1).transpose() * sc.D1.leftCols(n3);
+  }
+  const int ld = static_cast<int>(R.LoT.rows());
+  for (int l = 0; l < nl; ++l) {
+    const int p0 = R.start[l], m = R.start[l + 1] - p0;
+    if (m == 0) continue;
+    const double* A = sc.A.row(l).data();
+    const double* B = sc.B.row(l).data();
+    // 12 arrays of length m (stride ms): x(3), f(3), d/d(across)(3), d/d(along)(3)
+    const int ms = (m + 3) & ~3;
+    double* __restrict X0 = sc.v.data();
+    double* __restrict X1 = X0 + ms;
+    double* __restrict X2 = X0 + 2 * ms;
+    double* __restrict F0 = X0 + 3 * ms;
+    double* __restrict F1 = X0 + 4 * ms;
+    double* __restrict F2 = X0 + 5 * ms;
+    double* __restrict A0 = X0 + 6 * ms;
+    double* __restrict A1 = X0 + 7 * ms;
+    double* __restrict A2 = X0 + 8 * ms;
+    double* __restrict O0 = X0 + 9 * ms;
+    double* __restrict O1 = X0 + 10 * ms;
+    double* __restrict O2 = X0 + 11 * ms;
+    for (int p = 0; p < 12 * ms; ++p) X0[p] = 0.0;
+    for (int j = 0; j < nb; ++j) {
+      const double* __restrict lo = R.LoT.data() + static_cast<long>(j) * ld + p0;
+      const double* __restrict dlo = R.dLoT.data() + static_cast<long>(j) * ld + p0;
+      const double c0 = A[j], c1 = A[nb + j], c2 = A[2 * nb + j];
+      const double d0 = B[j], d1 = B[nb + j], d2 = B[2 * nb + j];
+#pragma omp simd
+      for (int p = 0; p < m; ++p) {
+        X0[p] += c0 * lo[p];
+        X1[p] += c1 * lo[p];
+        X2[p] += c2 * lo[p];
+        A0[p] += d0 * lo[p];
+        A1[p] += d1 * lo[p];
+        A2[p] += d2 * lo[p];
+        O0[p] += c0 * dlo[p];
+        O1[p] += c1 * dlo[p];
+        O2[p] += c2 * dlo[p];
       }
-      xv[k] = a;
-      xs[k] = b;
-      xt[k] = c;
-    }
-    if constexpr (uses_density(M)) {
-      for (int k = 0; k < 3; ++k) {
-        double a = 0;
-        for (int j = 0; j < nb; ++j) a += m[(3 + k) * nb + j] * l[j];
-        dv[k] = a;
+      if (K == 6) {
+        const double e0 = A[3 * nb + j], e1 = A[4 * nb + j], e2 = A[5 * nb + j];
+#pragma omp simd
+        for (int p = 0; p < m; ++p) {
+          F0[p] += e0 * lo[p];
+          F1[p] += e1 * lo[p];
+          F2[p] += e2 * lo[p];
+        }
       }
     }
-    double nw[3] = {sign * (xs[1] * xt[2] - xs[2] * xt[1]), sign * (xs[2] * xt[0] - xs[0] * xt[2]),
-                    sign * (xs[0] * xt[1] - xs[1] * xt[0])};
-    const double jac = std::sqrt(nw[0] * nw[0] + nw[1] * nw[1] + nw[2] * nw[2]);
-    for (double& v : nw) v *= w[p];
-    kernel<M>(x0, u0, xv[0], xv[1], xv[2], dv, nw, w[p] * jac, acc);
+    // n = x_s x x_t: constant-s lines: x_s = Da, x_t = Do; constant-t lines: swapped.
+    const double sg = l < n0 ? sign : -sign;
+    const double* w = R.w.data() + p0;
+    double s0 = 0, s1 = 0, s2 = 0;
+    double s3 = 0, s4 = 0, s5 = 0, s6 = 0, s7 = 0, s8 = 0;
+#pragma omp simd reduction(+ : s0, s1, s2, s3, s4, s5, s6, s7, s8)
+    for (int p = 0; p < m; ++p) {
+      const double nx = sg * (A1[p] * O2[p] - A2[p] * O1[p]);
+      const double ny = sg * (A2[p] * O0[p] - A0[p] * O2[p]);
+      const double nz = sg * (A0[p] * O1[p] - A1[p] * O0[p]);
+      const double rx = X0[p] - x0[0], ry = X1[p] - x0[1], rz = X2[p] - x0[2];
+      const double r2 = rx * rx + ry * ry + rz * rz;
+      const double ir = 1.0 / std::sqrt(r2);
+      const double ir3 = ir * ir * ir;
+      if constexpr (M == Mode::Single) {
+        const double fx = F0[p], fy = F1[p], fz = F2[p];
+        const double wj = w[p] * std::sqrt(nx * nx + ny * ny + nz * nz);
+        const double rd = rx * fx + ry * fy + rz * fz;
+        const double a = wj * ir, bb = wj * rd * ir3;
+        s0 += a * fx + bb * rx;
+        s1 += a * fy + bb * ry;
+        s2 += a * fz + bb * rz;
+      } else if constexpr (M == Mode::SingleNormal) {
+        const double rn = (rx * nx + ry * ny + rz * nz) * w[p];
+        const double bb = rn * ir3, a = ir * w[p];
+        s0 += a * nx + bb * rx;
+        s1 += a * ny + bb * ry;
+        s2 += a * nz + bb * rz;
+      } else if constexpr (M == Mode::Double) {
+        const double qx = F0[p] - u0[0], qy = F1[p] - u0[1], qz = F2[p] - u0[2];
+        const double rq = rx * qx + ry * qy + rz * qz;
+        const double rn = rx * nx + ry * ny + rz * nz;
+        const double a = -6.0 * w[p] * rq * rn * ir3 * ir * ir;
+        s0 += a * rx;
+        s1 += a * ry;
+        s2 += a * rz;
+      } else {
+        const double rn = rx * nx + ry * ny + rz * nz;
+        const double a = -6.0 * w[p] * rn * ir3 * ir * ir;
+        s0 += a * rx * rx;
+        s1 += a * ry * rx;
+        s2 += a * rz * rx;
+        s3 += a * rx * ry;
+        s4 += a * ry * ry;
+        s5 += a * rz * ry;
+        s6 += a * rx * rz;
+        s7 += a * ry * rz;
+        s8 += a * rz * rz;
+      }
+    }
+    acc[0] += s0;
+    acc[1] += s1;
+    acc[2] += s2;
+    if constexpr (M == Mode::DoubleNormal) {
+      acc[3] += s3;
+      acc[4] += s4;
+      acc[5] += s5;
+      acc[6] += s6;
+      acc[7] += s7;
+      acc[8] += s8;
+    }
   }
 }
 
@@ -288,6 +477,8 @@ BoundaryOperators::BoundaryOperators(const geometry::Mesh& mesh, QuadratureOptio
   if (opt_.n_radial <= 0) opt_.n_radial = nb + 2;
   if (opt_.n_edge_near <= 0) opt_.n_edge_near = nb + 2;
   if (opt_.n_radial_near <= 0) opt_.n_radial_near = 2 * nb - 4;
+  if (opt_.n_edge > kMaxEdge || opt_.n_edge_near > kMaxEdge)
+    throw std::invalid_argument("BoundaryOperators: n_edge / n_edge_near > 256");
   const spectral::Rule ge = spectral::gauss_legendre(opt_.n_edge);
   const spectral::Rule gr = spectral::gauss_legendre(opt_.n_radial);
   const VectorXd& xi = mesh.nodes();
@@ -304,13 +495,9 @@ BoundaryOperators::BoundaryOperators(const geometry::Mesh& mesh, QuadratureOptio
       auto it = key_to_rule.find(key);
       if (it == key_to_rule.end()) {
         Rule r;
-        polar_rule(xi[ic], xi[jc], 0.0, ge, gr, r.s, r.t, r.w);
-        const int np = static_cast<int>(r.s.size());
-        r.ls.resize(nb, np);
-        r.dls.resize(nb, np);
-        r.lt.resize(nb, np);
-        r.dlt.resize(nb, np);
-        fill_bases(mesh, r.s.data(), r.t.data(), np, r.ls, r.dls, r.lt, r.dlt);
+        const double hu[4] = {0, 0, 0, 0};
+        polar_rule(xi[ic], xi[jc], hu, ge, gr, r);
+        fill_bases(mesh, r);
         it = key_to_rule.emplace(key, static_cast<int>(rules_.size())).first;
         rules_.push_back(std::move(r));
       }
@@ -329,7 +516,7 @@ BoundaryOperators::BoundaryOperators(const geometry::Mesh& mesh, QuadratureOptio
 
 long BoundaryOperators::own_rule_points() const {
   long n = 0;
-  for (const Rule& r : rules_) n += static_cast<long>(r.s.size());
+  for (const Rule& r : rules_) n += r.np();
   return n;
 }
 
@@ -406,32 +593,31 @@ void BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens,
 
   const spectral::Rule gen = spectral::gauss_legendre(opt_.n_edge_near);
   const spectral::Rule grn = spectral::gauss_legendre(opt_.n_radial_near);
-  // up to 8 triangles; radial panels: asinh(l/hc) <= asinh(3/1e-14) < 6 * 6
-  const int max_near_pts = 8 * opt_.n_edge_near * opt_.n_radial_near * 6;
-  int max_own_pts = 0;
-  for (const Rule& r : rules_) max_own_pts = std::max(max_own_pts, static_cast<int>(r.s.size()));
-  const int max_pts = std::max(max_near_pts, max_own_pts);
+  // near rule: 4 edges x n_radial_near x panels (asinh(1/hu) <= asinh(1e14) < 6 * 6) lines
+  const int max_near_lines = 4 * opt_.n_radial_near * 6;
+  int max_lines = max_near_lines, max_line = 2 * opt_.n_edge_near;
+  for (const Rule& r : rules_) {
+    max_lines = std::max(max_lines, r.nl());
+    for (int l = 0; l < r.nl(); ++l) max_line = std::max(max_line, r.start[l + 1] - r.start[l]);
+  }
 
   long far_pairs = 0, own_pairs = 0, near_pairs = 0, near_elements = 0;
 #pragma omp parallel reduction(+ : far_pairs, own_pairs, near_pairs, near_elements)
   {
     Scratch sc;
-    sc.P.resize(nb, 6 * nb);
-    sc.M.resize(6 * nb, max_pts);
-    sc.Md.resize(3 * nb, max_pts);
-    sc.ls.resize(nb, max_near_pts);
-    sc.dls.resize(nb, max_near_pts);
-    sc.lt.resize(nb, max_near_pts);
-    sc.dlt.resize(nb, max_near_pts);
-    sc.s.reserve(max_near_pts);
-    sc.t.reserve(max_near_pts);
-    sc.w.reserve(max_near_pts);
+    sc.D0.resize(nb, 6 * nb);
+    sc.D1.resize(nb, 6 * nb);
+    sc.A.resize(max_lines, 6 * nb);
+    sc.B.resize(max_lines, 3 * nb);
+    sc.v.resize(12 * static_cast<size_t>(max_line));
+    sc.near.Lc.resize(nb, max_near_lines);
+    sc.near.dLc.resize(nb, max_near_lines);
     std::vector<char> own(ne);
     const double* Fx = F.row(0).data();
     const double* Fy = F.row(1).data();
     const double* Fz = F.row(2).data();
 
-#pragma omp for schedule(dynamic, 4)
+#pragma omp for schedule(dynamic, 1)
     for (int k = 0; k < ntar; ++k) {
       double acc[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
       Vector3d x0, u0 = Vector3d::Zero();
@@ -446,20 +632,11 @@ void BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens,
           own[e] = 1;
           const Rule& r = rules_[canon_rule_[loc]];
           const int sym = canon_sym_[loc];
-          const std::vector<int>& perm = canon_perm_[sym];
           const double sign = ((sym & 1) ? -1.0 : 1.0) * ((sym & 2) ? -1.0 : 1.0) *
                               ((sym & 4) ? -1.0 : 1.0);
-          for (int b = 0; b < nb; ++b)
-            for (int a = 0; a < nb; ++a) {
-              const int src = e * nb2 + perm[a + nb * b];
-              for (int c = 0; c < 3; ++c) sc.P(a, c * nb + b) = x(c, src);
-              if (uses_density(M))
-                for (int c = 0; c < 3; ++c) sc.P(a, (3 + c) * nb + b) = (*dens)(c, src);
-            }
-          const int np = static_cast<int>(r.s.size());
-          special_sum<M>(nb, sc.P, K, r.ls, r.dls, r.lt, r.dlt, r.w.data(), np, sign, x0, u0, sc,
-                         acc);
-          own_pairs += np;
+          load_element(nb, K, x, dens, e * nb2, canon_perm_[sym].data(), sc);
+          line_sum<M>(nb, K, r, sign, x0, u0, sc, acc);
+          own_pairs += r.np();
         }
       } else {
         x0 = point_targets->col(k);
@@ -467,29 +644,34 @@ void BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens,
       for (int e = 0; e < ne; ++e) {
         if (own[e]) continue;
         bool near = false;
-        double s = 0, t = 0, h = 0, c = 1;
+        double s = 0, t = 0, h = 0;
+        Vector3d xs, xt;
         const double crit = opt_.near_factor * esize[e];
         if ((x0 - centre[e]).norm() - radius[e] < crit) {
-          nearest_point(mesh, x, e, x0, s, t, h, c);
+          nearest_point(mesh, x, e, x0, s, t, h, xs, xt);
           near = h < crit;
         }
         if (near) {
           ++near_elements;
-          double hc = h / c;
-          if (hc < 1e-12) hc = 0.0;
-          polar_rule(s, t, hc, gen, grn, sc.s, sc.t, sc.w);
-          const int np = static_cast<int>(sc.s.size());
-          fill_bases(mesh, sc.s.data(), sc.t.data(), np, sc.ls, sc.dls, sc.lt, sc.dlt);
-          for (int b = 0; b < nb; ++b)
-            for (int a = 0; a < nb; ++a) {
-              const int src = e * nb2 + a + nb * b;
-              for (int cc = 0; cc < 3; ++cc) sc.P(a, cc * nb + b) = x(cc, src);
-              if (uses_density(M))
-                for (int cc = 0; cc < 3; ++cc) sc.P(a, (3 + cc) * nb + b) = (*dens)(cc, src);
-            }
-          special_sum<M>(nb, sc.P, K, sc.ls, sc.dls, sc.lt, sc.dlt, sc.w.data(), np, 1.0, x0,
-                         u0, sc, acc);
-          near_pairs += np;
+          // radial sinh scale per edge: h / max |J v| over the rays to the edge's two ends
+          // (|J v|^2 is convex along the edge), J = [x_s x_t] at p*.
+          double hu[4];
+          const double ends[4][2][2] = {{{-1, -1}, {-1, 1}},
+                                        {{1, -1}, {1, 1}},
+                                        {{-1, -1}, {1, -1}},
+                                        {{-1, 1}, {1, 1}}};
+          for (int ei = 0; ei < 4; ++ei) {
+            double jv = 0;
+            for (int k2 = 0; k2 < 2; ++k2)
+              jv = std::max(jv, (xs * (ends[ei][k2][0] - s) + xt * (ends[ei][k2][1] - t)).norm());
+            hu[ei] = h / jv;
+            if (hu[ei] < 1e-13) hu[ei] = 0.0;
+          }
+          polar_rule(s, t, hu, gen, grn, sc.near);
+          fill_bases(mesh, sc.near);
+          load_element(nb, K, x, dens, e * nb2, nullptr, sc);
+          line_sum<M>(nb, K, sc.near, 1.0, x0, u0, sc, acc);
+          near_pairs += sc.near.np();
         } else {
           const int q0 = e * nqe, q1 = q0 + nqe;
           for (int q = q0; q < q1; ++q) {

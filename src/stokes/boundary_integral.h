@@ -54,6 +54,7 @@ struct QuadratureOptions {
   int n_edge_near = 0;    // near elements: along the edge; 0 -> nb + 2
   int n_radial_near = 0;  // near elements: along each ray; 0 -> 2 nb - 4
   double near_factor = 0.5;  // near when dist(x0, E) < near_factor * sqrt(area(E))
+  double own_tolerance = 0.0;  // placeholder
 };
 
 // Counts of the last call (kernel evaluations = source points x targets).
@@ -106,9 +107,18 @@ class BoundaryOperators {
 
   enum class Mode { Single, SingleNormal, Double, DoubleNormal };
 
-  struct Rule {  // points in the canonical orientation of the square
-    std::vector<double> s, t, w;
-    MatrixXd ls, dls, lt, dlt;  // nb x npts: 1-D Lagrange bases (and derivatives) at s, t
+  // A special quadrature rule whose points lie on "lines" of constant s (lines [0, n0)) or
+  // constant t (lines [n0, nl)) in the canonical orientation of the square: the 1-D bases in
+  // the constant direction are shared by all points of a line (see the header comment).
+  struct Rule {
+    int n0 = 0;                // number of constant-s lines
+    std::vector<double> c;     // per line: the constant coordinate
+    std::vector<int> start;    // per line: first point (size nl + 1)
+    std::vector<double> o, w;  // per point: the coordinate along the line, weight
+    MatrixXd Lc, dLc;          // nb x nl: 1-D bases (and derivatives) at c
+    MatrixXd LoT, dLoT;        // np x nb: 1-D bases (and derivatives) at o, point-major
+    int nl() const { return static_cast<int>(c.size()); }
+    int np() const { return static_cast<int>(o.size()); }
   };
 
  private:
