@@ -176,7 +176,7 @@ struct Simulation::Impl {
     so.edge_curvature = full;
     m.shape = diagnostics::measure_shape(*mesh, cap->positions(), so);
     if (full) {
-      const membrane::MembraneFields f = cap->membrane().fields(cap->positions());
+      const membrane::MembraneFields f = cap->fields(cap->positions());
       Eigen::Index imax, imin;
       m.tau_max = f.tension1.maxCoeff(&imax);
       m.tau_min = f.tension2.minCoeff(&imin);
@@ -191,7 +191,7 @@ struct Simulation::Impl {
     sn.nb = mesh->nb();
     const Eigen::Matrix3Xd& x = cap->positions();
     sn.x.assign(x.data(), x.data() + x.size());
-    const membrane::MembraneFields f = cap->membrane().fields(x);
+    const membrane::MembraneFields f = cap->fields(x);
     sn.tau1.assign(f.tension1.data(), f.tension1.data() + f.tension1.size());
     sn.tau2.assign(f.tension2.data(), f.tension2.data() + f.tension2.size());
     sn.time = cap->time();

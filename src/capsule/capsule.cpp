@@ -43,7 +43,8 @@ Capsule::Capsule(const geometry::Mesh& mesh, const membrane::LawOptions& law, co
   x_ = mesh.reference();
   // The nodal sphere is C1 across element edges only to discretisation accuracy; start from its
   // smoothed version so that V0 (and the volume drift) refers to the state actually advanced.
-  if (opt_.smooth_geometry) smooth_first_order(mesh_, ref_basis_, &x_);
+  if (opt_.smooth_geometry && opt_.smoothing == SmoothingMethod::NodalReconstruction)
+    smooth_first_order(mesh_, ref_basis_, &x_);
   v0_ = enclosed_volume(mesh, x_);
 }
 
@@ -57,10 +58,32 @@ void Capsule::set_state(const Eigen::Matrix3Xd& x, double t, long steps) {
   steps_ = steps;
 }
 
+void Capsule::tangents(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* t1, Eigen::Matrix3Xd* t2) const {
+  if (opt_.smooth_geometry && opt_.smoothing == SmoothingMethod::HermiteDerivatives) {
+    hermite_derivatives(mesh_, ref_basis_, x, t1, t2);
+  } else {
+    const Eigen::MatrixXd xd = x;
+    *t1 = geometry::d_xi(mesh_, xd);
+    *t2 = geometry::d_eta(mesh_, xd);
+  }
+}
+
+membrane::MembraneFields Capsule::fields(const Eigen::Matrix3Xd& x) const {
+  Eigen::Matrix3Xd t1, t2;
+  tangents(x, &t1, &t2);
+  return membrane_->fields_from_tangents(t1, t2);
+}
+
 Eigen::Matrix3Xd Capsule::traction(const Eigen::Matrix3Xd& x) const {
-  Eigen::Matrix3Xd f;
-  membrane_->traction(x, &f);
-  if (opt_.smooth_traction) smooth_first_order(mesh_, tangent_basis(mesh_, x), &f);
+  Eigen::Matrix3Xd f, t1, t2;
+  tangents(x, &t1, &t2);
+  membrane_->traction_from_tangents(t1, t2, &f);
+  if (opt_.smooth_traction) {
+    if (opt_.smoothing == SmoothingMethod::HermiteDerivatives)
+      average_coincident(mesh_, &f);  // the Hermite correction of f changes no nodal value
+    else
+      smooth_first_order(mesh_, tangent_basis(mesh_, x), &f);
+  }
   return f;
 }
 
@@ -96,7 +119,12 @@ void Capsule::step(double dt, const CaFunction& ca) {
   const Eigen::Matrix3Xd k3 = velocity(x_ + 0.5 * dt * k2, ca(t + 0.5 * dt));
   const Eigen::Matrix3Xd k4 = velocity(x_ + dt * k3, ca(t + dt));
   x_ += (dt / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
-  if (opt_.smooth_geometry) smooth_first_order(mesh_, ref_basis_, &x_);
+  if (opt_.smooth_geometry) {
+    if (opt_.smoothing == SmoothingMethod::NodalReconstruction)
+      smooth_first_order(mesh_, ref_basis_, &x_);
+    else
+      average_coincident(mesh_, &x_);
+  }
   if (opt_.volume_correction) {
     const double v = enclosed_volume(mesh_, x_);
     // Centroid x_c = (1/V) INT (|x|^2/2) n dS.

@@ -33,10 +33,22 @@ using CaFunction = std::function<double(double t)>;
 
 enum class SymmetryChoice { Auto, None };
 
+// How the paper's first-order smoothing is realised (method.md sec. 6, the two readings):
+//   HermiteDerivatives (reading a, default): nodal values are never moved (except the averaging of
+//     coincident nodes); the membrane mechanics uses the tangents of the degree NB+1 Hermite
+//     interpolant through the nodal values and the averaged edge slopes (hermite_derivatives), and
+//     f is averaged over coincident nodes before the boundary integral.
+//   NodalReconstruction (reading b): the nodes next to the element edges are re-solved so that
+//     the Lagrange interpolant itself has the averaged edge slopes (smooth_first_order), for x
+//     after each step and for f before each use. Kept for comparison: it moves material points by
+//     the derivative mismatch every step, which measurably drains volume.
+enum class SmoothingMethod { HermiteDerivatives, NodalReconstruction };
+
 struct DynamicsOptions {
   double viscosity_ratio = 1.0;   // lambda; only 1 is implemented (constructor refuses others)
   bool smooth_geometry = true;    // paper's first-order smoothing of x after each step
   bool smooth_traction = true;    // ... and of f before each use
+  SmoothingMethod smoothing = SmoothingMethod::HermiteDerivatives;
   bool volume_correction = false; // paper eq. 23
   SymmetryChoice symmetry = SymmetryChoice::Auto;  // Auto: octant (planar ext.), quarter (shear)
   stokes::QuadratureOptions quadrature;
@@ -65,6 +77,10 @@ class Capsule {
 
   // Traction jump at positions x, smoothed if options().smooth_traction.
   Eigen::Matrix3Xd traction(const Eigen::Matrix3Xd& x) const;
+  // Membrane fields (stretches, tensions) at x, with the same tangents the dynamics uses.
+  membrane::MembraneFields fields(const Eigen::Matrix3Xd& x) const;
+  // The tangents the membrane mechanics sees at x (Hermite-smoothed or Lagrange).
+  void tangents(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* t1, Eigen::Matrix3Xd* t2) const;
   // Node velocities at positions x for capillary number ca (> 0).
   Eigen::Matrix3Xd velocity(const Eigen::Matrix3Xd& x, double ca) const;
   // Same, evaluated at every node without symmetry (reference for tests).

@@ -124,26 +124,96 @@ double max_gradient_jump(const Mesh& mesh, const SmoothingBasis& basis, const Ma
   return worst;
 }
 
+namespace {
+// Steps 2-3: the Lagrange derivatives f1, f2 of F and, at every shared node, the slopes from the
+// averaged gradient tensor (elsewhere slope = own derivative); avg_of[m] the averaged tensor.
+void prescribed_slopes(const Mesh& mesh, const SmoothingBasis& basis, const Matrix3Xd& f,
+                       Matrix3Xd* f1, Matrix3Xd* f2, Matrix3Xd* slope1, Matrix3Xd* slope2,
+                       std::vector<Matrix3d>* avg_of) {
+  const MatrixXd fd = f;
+  *f1 = geometry::d_xi(mesh, fd);
+  *f2 = geometry::d_eta(mesh, fd);
+  *slope1 = *f1;
+  *slope2 = *f2;
+  if (avg_of) avg_of->assign(mesh.num_local(), Matrix3d::Zero());
+  for (const auto& cls : mesh.classes()) {
+    if (cls.size() < 2) continue;
+    Matrix3d avg = Matrix3d::Zero();
+    for (int m : cls) avg += gradient_tensor(basis, *f1, *f2, m);
+    avg /= static_cast<double>(cls.size());
+    for (int m : cls) {
+      if (avg_of) (*avg_of)[m] = avg;
+      slope1->col(m) = avg.transpose() * basis.lower1.col(m);
+      slope2->col(m) = avg.transpose() * basis.lower2.col(m);
+    }
+  }
+}
+}  // namespace
+
+void hermite_derivatives(const Mesh& mesh, const SmoothingBasis& basis, const Matrix3Xd& f,
+                         Matrix3Xd* d1, Matrix3Xd* d2) {
+  const int nb = mesh.nb();
+  Matrix3Xd l1, l2, slope1, slope2;
+  std::vector<Matrix3d> avg_of;
+  prescribed_slopes(mesh, basis, f, &l1, &l2, &slope1, &slope2, &avg_of);
+  // w(xi) = prod_k (xi - xi_k); w'(xi_i) = prod_{k != i} (xi_i - xi_k).
+  const Eigen::VectorXd& xi = mesh.nodes();
+  Eigen::VectorXd wp(nb);
+  for (int i = 0; i < nb; ++i) {
+    double p = 1.0;
+    for (int k = 0; k < nb; ++k)
+      if (k != i) p *= xi[i] - xi[k];
+    wp[i] = p;
+  }
+  // H(xi) = L(xi) + w(xi) [(1-xi)/2 c- + (1+xi)/2 c+],  c+- = (s+- - L'(+-1)) / w'(+-1);
+  // at the nodes w = 0, so H'(xi_i) = L'(xi_i) + w'(xi_i) [(1-xi_i)/2 c- + (1+xi_i)/2 c+].
+  auto hermite_line = [&](const Matrix3Xd& lag, const Matrix3Xd& slope, auto index, Matrix3Xd* out) {
+    const Vector3d cm = (slope.col(index(0)) - lag.col(index(0))) / wp[0];
+    const Vector3d cp = (slope.col(index(nb - 1)) - lag.col(index(nb - 1))) / wp[nb - 1];
+    for (int k = 0; k < nb; ++k)
+      out->col(index(k)) = lag.col(index(k)) + 0.5 * wp[k] * ((1 - xi[k]) * cm + (1 + xi[k]) * cp);
+  };
+  *d1 = l1;
+  *d2 = l2;
+  // 1. The element edges: along-edge derivatives from the corner slopes.
+  for (int e = 0; e < mesh.ne(); ++e) {
+    for (int i : {0, nb - 1}) hermite_line(l2, slope2, [&](int k) { return mesh.local(e, i, k); }, d2);
+    for (int j : {0, nb - 1}) hermite_line(l1, slope1, [&](int k) { return mesh.local(e, k, j); }, d1);
+  }
+  // 2. Cross-edge slopes at edge-interior nodes, corrected by a rank-one term along the shared
+  //    along-edge reference tangent E_a so that the tensor reproduces the edge's derivative g_a:
+  //    F_c = M^T E_c + (g_a - M^T E_a)(E_a . E_c)/|E_a|^2. The corrected tensor
+  //    M + (E_a/|E_a|^2) (x) (g_a - M^T E_a) is the same in every element sharing the node.
+  for (int e = 0; e < mesh.ne(); ++e)
+    for (int k = 1; k < nb - 1; ++k) {
+      for (int i : {0, nb - 1}) {
+        const int m = mesh.local(e, i, k);
+        const Matrix3d mt = avg_of[m].transpose();
+        const Vector3d ea = basis.lower2.col(m), ec = basis.lower1.col(m);
+        slope1.col(m) = mt * ec + (d2->col(m) - mt * ea) * (ea.dot(ec) / ea.squaredNorm());
+      }
+      for (int j : {0, nb - 1}) {
+        const int m = mesh.local(e, k, j);
+        const Matrix3d mt = avg_of[m].transpose();
+        const Vector3d ea = basis.lower1.col(m), ec = basis.lower2.col(m);
+        slope2.col(m) = mt * ec + (d1->col(m) - mt * ea) * (ea.dot(ec) / ea.squaredNorm());
+      }
+    }
+  // 3. Every interior grid line, across the element.
+  for (int e = 0; e < mesh.ne(); ++e)
+    for (int line = 1; line < nb - 1; ++line) {
+      hermite_line(l1, slope1, [&](int k) { return mesh.local(e, k, line); }, d1);
+      hermite_line(l2, slope2, [&](int k) { return mesh.local(e, line, k); }, d2);
+    }
+}
+
 void smooth_first_order(const Mesh& mesh, const SmoothingBasis& basis, Matrix3Xd* f) {
   const int nb = mesh.nb();
   average_coincident(mesh, f);
 
-  // Steps 2-3: averaged gradient tensor -> prescribed slopes at every boundary node.
-  const MatrixXd fd = *f;
-  const Matrix3Xd f1 = geometry::d_xi(mesh, fd), f2 = geometry::d_eta(mesh, fd);
-  Matrix3Xd slope1 = f1, slope2 = f2;
-  std::vector<Matrix3d> avg_of(mesh.num_local(), Matrix3d::Zero());
-  for (const auto& cls : mesh.classes()) {
-    if (cls.size() < 2) continue;
-    Matrix3d avg = Matrix3d::Zero();
-    for (int m : cls) avg += gradient_tensor(basis, f1, f2, m);
-    avg /= static_cast<double>(cls.size());
-    for (int m : cls) {
-      avg_of[m] = avg;
-      slope1.col(m) = avg.transpose() * basis.lower1.col(m);
-      slope2.col(m) = avg.transpose() * basis.lower2.col(m);
-    }
-  }
+  Matrix3Xd f1, f2, slope1, slope2;
+  std::vector<Matrix3d> avg_of;
+  prescribed_slopes(mesh, basis, *f, &f1, &f2, &slope1, &slope2, &avg_of);
 
   if (nb >= 4) {
     const MatrixXd& d = mesh.diff();

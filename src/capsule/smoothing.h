@@ -52,6 +52,17 @@ void average_coincident(const Mesh& mesh, Matrix3Xd* f);
 // First-order smoothing of F in place (steps 1-4 above).
 void smooth_first_order(const Mesh& mesh, const SmoothingBasis& basis, Matrix3Xd* f);
 
+// Reading (a) of method.md: the first-order smoothed DERIVATIVES of F, nodal values unchanged.
+// Along every grid line the 1-D Hermite interpolant of degree NB+1 through the NB nodal values
+// and the two prescribed end slopes (steps 2-3) is
+//   H(xi) = L(xi) + w(xi) [(1-xi)/2 c- + (1+xi)/2 c+],  w = prod_k (xi - xi_k),
+//   c+- = (s+- - L'(+-1)) / w'(+-1);
+// d1 (d2) receive H' at the nodes of the lines along xi (eta). At the edge nodes d1/d2 equal
+// the prescribed slopes exactly, so they are the same tensor in every element sharing the node.
+// F itself must already be continuous (average_coincident).
+void hermite_derivatives(const Mesh& mesh, const SmoothingBasis& basis, const Matrix3Xd& f,
+                         Matrix3Xd* d1, Matrix3Xd* d2);
+
 // Largest jump, over shared edge/corner nodes, of the tensor M of step 2 between the elements
 // sharing the node (a measure of first-order discontinuity; 0 for C1 data).
 double max_gradient_jump(const Mesh& mesh, const SmoothingBasis& basis, const Matrix3Xd& f);

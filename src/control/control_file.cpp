@@ -349,6 +349,7 @@ ParsedControl parse_control(const std::string& text, const std::string& source) 
   ParsedControl out;
   ControlOptions& o = out.options;
   Reader root(&doc, "", &errors);
+  root.text("description", &o.description, "a free-text description of the run");
 
   {
     Reader r = root.object("capsule");
@@ -509,6 +510,7 @@ ParsedControl load_control_file(const std::string& path) {
 
 std::string to_json_text(const ControlOptions& o) {
   json j;
+  if (!o.description.empty()) j["description"] = o.description;
   j["capsule"] = {{"law", o.law.kind == membrane::LawKind::Skalak
                               ? "skalak"
                               : (o.law.kind == membrane::LawKind::NeoHookean ? "neo-hookean"

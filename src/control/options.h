@@ -94,6 +94,7 @@ struct RunOptions {
 //   preview.png in the run directory up to date without ever blocking the solver).
 
 struct ControlOptions {
+  std::string description;            // "description": free text, logged (optional)
   membrane::LawOptions law;           // "capsule.law", "capsule.C", "capsule.psi"
   double viscosity_ratio = 1.0;       // "capsule.viscosity_ratio": only 1 is implemented
   MeshOptions mesh;

@@ -147,9 +147,14 @@ void Membrane::current_tangents(const Matrix3Xd& x, Matrix3Xd* t1, Matrix3Xd* t2
 }
 
 void Membrane::traction(const Matrix3Xd& x, Matrix3Xd* f) const {
-  const int nb = mesh_.nb(), ne = mesh_.ne(), n = mesh_.num_local();
   Matrix3Xd t1, t2;
   current_tangents(x, &t1, &t2);
+  traction_from_tangents(t1, t2, f);
+}
+
+void Membrane::traction_from_tangents(const Matrix3Xd& t1, const Matrix3Xd& t2, Matrix3Xd* f) const {
+  const int nb = mesh_.nb(), ne = mesh_.ne(), n = mesh_.num_local();
+  if (t1.cols() != n || t2.cols() != n) throw std::invalid_argument("Membrane: tangents have wrong size");
   // q^a = sqrt(g) (cb G^ab + cp g^ab) t_b.
   Matrix3Xd q1(3, n), q2(3, n);
   VectorXd jac(n);
@@ -196,9 +201,14 @@ Matrix3Xd Membrane::traction(const Matrix3Xd& x) const {
 }
 
 MembraneFields Membrane::fields(const Matrix3Xd& x) const {
-  const int n = mesh_.num_local();
   Matrix3Xd t1, t2;
   current_tangents(x, &t1, &t2);
+  return fields_from_tangents(t1, t2);
+}
+
+MembraneFields Membrane::fields_from_tangents(const Matrix3Xd& t1, const Matrix3Xd& t2) const {
+  const int n = mesh_.num_local();
+  if (t1.cols() != n || t2.cols() != n) throw std::invalid_argument("Membrane: tangents have wrong size");
   MembraneFields out;
   out.A.resize(n);
   out.B.resize(n);

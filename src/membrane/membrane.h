@@ -93,6 +93,12 @@ class Membrane {
 
   MembraneFields fields(const Matrix3Xd& x) const;
 
+  // The same from given current tangents t1 = dx/dxi, t2 = dx/deta at every local node (e.g. the
+  // first-order smoothed tangents of the capsule's Hermite representation) instead of the
+  // Lagrange derivatives of x.
+  void traction_from_tangents(const Matrix3Xd& t1, const Matrix3Xd& t2, Matrix3Xd* f) const;
+  MembraneFields fields_from_tangents(const Matrix3Xd& t1, const Matrix3Xd& t2) const;
+
   // Total strain energy INT w dS_ref (Gauss quadrature on the reference surface).
   double energy(const Matrix3Xd& x) const;
 
