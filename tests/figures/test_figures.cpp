@@ -1,0 +1,423 @@
+// capflow figure (src/app/cmd_figure.cpp, src/app/figure_data.h) on small synthetic run
+// directories written here: every figure kind is produced and non-empty, SVGs parse as XML
+// (expat), the .dat sidecars hold exactly the CSV values they came from, 3-D views are rendered
+// from the saved .vtp surface nearest in time, and a run without surface data gets the frame
+// PNG nearest in time with a note saying so.
+#include <expat.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "app/figure_data.h"
+#include "geometry/mesh.h"
+#include "geometry/shapes.h"
+#include "output/png_writer.h"
+#include "output/vtk.h"
+
+namespace fs = std::filesystem;
+namespace fig = capflow::app::figures;
+
+namespace {
+
+fs::path fresh_dir(const std::string& name) {
+  const auto d =
+      fs::temp_directory_path() / ("capflow_fig_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+void put(const fs::path& p, const std::string& text) {
+  fs::create_directories(p.parent_path());
+  std::ofstream(p, std::ios::trunc) << text;
+}
+
+std::string g(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.10g", v);
+  return b;
+}
+
+double deformation(double t, double amp) {
+  return amp * (1 - std::exp(-t));
+}
+
+// A synthetic run: D(t) = amp (1 - e^-t) on t = 0, 0.05, .., 2; steady states at four Ca;
+// profiles (ellipses) and solid-colour frames at t = 0, 0.5, .., 2 (frame k <-> profile k);
+// with `surfaces`, ellipsoid surfaces at t = 0, 1, 2 in vtk/ + surface.pvd.
+void make_run(const fs::path& d, double amp, bool surfaces) {
+  std::ostringstream ts;
+  ts << "t,ca,D,L,S,W,Lc,Sc,Wc,area,volume,edge_curvature,tau_max,tau_min,inclination_deg,"
+        "volume_drift,steps,wall_s\n";
+  for (int k = 0; k <= 40; ++k) {
+    const double t = 0.05 * k, D = deformation(t, amp);
+    ts << g(t) << ",0.45," << g(D) << "," << g(1 + D) << "," << g(1 - D) << "," << g(1 + 0.1 * D)
+       << "," << g(1.02 * (1 + D)) << "," << g(0.98 * (1 - D)) << "," << g(1 + 0.12 * D) << ","
+       << g(12.566 * (1 + 0.1 * D)) << ",4.18879," << g(1 + 5 * D) << "," << g(2 * D) << ","
+       << g(-0.1 * D) << ",0,0," << k * 10 << ",0." << k << "\n";
+  }
+  put(d / "timeseries.csv", ts.str());
+  std::ostringstream st;
+  st << "ca,L,S,W,Lc,Sc,Wc,D,area,edge_curvature,tau_max,tau_min\n";
+  for (double ca : {0.15, 0.3, 0.45, 0.6}) {
+    const double D = amp * ca;
+    st << g(ca) << "," << g(1 + D) << "," << g(1 - D) << "," << g(1 + 0.1 * D) << ","
+       << g(1.02 * (1 + D)) << "," << g(0.98 * (1 - D)) << "," << g(1 + 0.12 * D) << "," << g(D)
+       << "," << g(12.566 * (1 + 0.1 * D)) << "," << g(1 + 8 * D * D) << "," << g(3 * D) << ","
+       << g(-0.1 * D) << "\n";
+  }
+  put(d / "steady.csv", st.str());
+  fs::create_directories(d / "frames");
+  for (int k = 0; k <= 4; ++k) {
+    const double t = 0.5 * k, D = deformation(t, amp);
+    std::ostringstream p;
+    p << "plane,t,a,b\n";
+    for (const char* plane : {"z", "y"})
+      for (int i = 0; i < 48; ++i) {
+        const double th = 2 * M_PI * i / 48;
+        const double b = plane[0] == 'z' ? (1 - D) : (1 + 0.1 * D);
+        p << plane << "," << g(t) << "," << g((1 + D) * std::cos(th)) << "," << g(b * std::sin(th))
+          << "\n";
+      }
+    char name[64];
+    std::snprintf(name, sizeof name, "profiles/profile_%06d.csv", k);
+    put(d / name, p.str());
+    std::vector<uint8_t> px(64 * 48 * 4);
+    for (size_t i = 0; i < px.size(); i += 4) {
+      px[i] = static_cast<uint8_t>(40 * k);
+      px[i + 1] = 100;
+      px[i + 2] = static_cast<uint8_t>(200 - 40 * k);
+      px[i + 3] = 255;
+    }
+    std::snprintf(name, sizeof name, "frames/frame_%06d.png", k);
+    capflow::output::write_png((d / name).string(), 64, 48, px.data());
+  }
+  if (surfaces) {
+    fs::create_directories(d / "vtk");
+    capflow::output::PvdCollection pvd((d / fig::kSurfaceCollection).string());
+    capflow::geometry::Mesh mesh(6, 9);  // odd NB: a node at each face centre
+    for (int k = 0; k <= 2; ++k) {
+      const double t = k, D = deformation(t, amp);
+      const auto x = capflow::geometry::map_points(
+          mesh.reference(), capflow::geometry::ellipsoid_map(1 + D, 1 - D, 1 + 0.1 * D));
+      capflow::render::Snapshot s;
+      s.ne = 6;
+      s.nb = 9;
+      s.time = t;
+      s.ca = 0.45;
+      s.diag.D = D;
+      const int n = mesh.num_local();
+      s.x.assign(x.data(), x.data() + 3 * n);
+      for (int i = 0; i < n; ++i) {
+        s.tau1.push_back(1 + x(0, i) * x(0, i));
+        s.tau2.push_back(x(2, i));
+      }
+      s.diag.tau_max = *std::max_element(s.tau1.begin(), s.tau1.end());
+      const std::string f = fig::surface_file_name(k);
+      capflow::output::write_vtp((d / f).string(), fig::vtk_from_snapshot(s));
+      pvd.add(t, f);
+    }
+  }
+}
+
+int run_capflow(const std::string& args, const fs::path& log) {
+  const std::string cmd =
+      std::string(CAPFLOW_EXE) + " figure " + args + " > " + log.string() + " 2>&1";
+  const int rc = std::system(cmd.c_str());
+  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+}
+
+// Parses a .dat sidecar: blocks of numeric rows ('#' comments, blocks split by blank lines).
+std::vector<std::vector<std::vector<double>>> read_dat(const fs::path& p) {
+  std::vector<std::vector<std::vector<double>>> blocks;
+  std::ifstream f(p);
+  std::string line;
+  bool in_block = false;
+  while (std::getline(f, line)) {
+    if (line.empty()) {
+      in_block = false;
+      continue;
+    }
+    if (line[0] == '#') continue;
+    if (!in_block) blocks.emplace_back();
+    in_block = true;
+    std::istringstream in(line);
+    std::vector<double> row;
+    std::string tok;
+    while (in >> tok) row.push_back(std::strtod(tok.c_str(), nullptr));
+    blocks.back().push_back(row);
+  }
+  return blocks;
+}
+
+// Well-formed XML (expat), returns the root element name ("" when not well-formed).
+std::string xml_root(const fs::path& p, std::string* error) {
+  XML_Parser parser = XML_ParserCreate(nullptr);
+  std::string root;
+  XML_SetUserData(parser, &root);
+  XML_SetStartElementHandler(parser, [](void* ud, const XML_Char* name, const XML_Char**) {
+    auto* r = static_cast<std::string*>(ud);
+    if (r->empty()) *r = name;
+  });
+  const std::string text = slurp(p);
+  const bool ok =
+      XML_Parse(parser, text.data(), static_cast<int>(text.size()), 1) != XML_STATUS_ERROR;
+  if (!ok)
+    *error = std::string(XML_ErrorString(XML_GetErrorCode(parser))) + " at line " +
+             std::to_string(XML_GetCurrentLineNumber(parser));
+  XML_ParserFree(parser);
+  return ok ? root : "";
+}
+
+// Width and height from a PNG's IHDR chunk (0, 0 if not a PNG).
+std::pair<int, int> png_size(const fs::path& p) {
+  const std::string s = slurp(p);
+  if (s.size() < 24 || s.compare(1, 3, "PNG") != 0) return {0, 0};
+  auto be = [&](size_t o) {
+    return (static_cast<unsigned char>(s[o]) << 24) | (static_cast<unsigned char>(s[o + 1]) << 16) |
+           (static_cast<unsigned char>(s[o + 2]) << 8) | static_cast<unsigned char>(s[o + 3]);
+  };
+  return {static_cast<int>(be(16)), static_cast<int>(be(20))};
+}
+
+bool gnuplot_available() {
+  return std::system("command -v gnuplot >/dev/null 2>&1") == 0;
+}
+
+}  // namespace
+
+TEST(FigureData, CsvAndNearest) {
+  const fs::path d = fresh_dir("csv");
+  put(d / "a.csv", "t,x,y\n0,1,2\n0.5,abc,3\n\n1,4,5\n2,6\n");  // last row incomplete
+  const fig::Table t = fig::read_csv((d / "a.csv").string());
+  ASSERT_EQ(t.rows(), 3);
+  EXPECT_EQ(t.column("x")[0], 1);
+  EXPECT_TRUE(std::isnan(t.column("x")[1]));
+  EXPECT_EQ(t.column("y")[2], 5);
+  EXPECT_THROW(t.column("z"), std::runtime_error);
+  EXPECT_EQ(fig::nearest({0, 0.5, 1, 2}, 0.8), 2);
+  EXPECT_EQ(fig::nearest({0, 0.5, 1, 2}, 0.75), 1);  // tie: the first
+  EXPECT_EQ(fig::nearest({}, 1), -1);
+}
+
+TEST(FigureData, LoadSurfaceNearestInTimeFromOwnVtp) {
+  const fs::path d = fresh_dir("surface");
+  make_run(d / "a", 0.3, true);
+  make_run(d / "b", 0.3, false);
+  capflow::render::Snapshot s;
+  std::string note;
+  ASSERT_TRUE(fig::load_surface((d / "a").string(), 0.8, &s, &note)) << note;
+  EXPECT_EQ(s.time, 1.0);
+  EXPECT_EQ(s.ne, 6);
+  EXPECT_EQ(s.nb, 9);
+  EXPECT_EQ(s.ca, 0.45);
+  EXPECT_DOUBLE_EQ(s.diag.D, deformation(1, 0.3));
+  std::string err;
+  EXPECT_TRUE(s.IsValid(&err)) << err;
+  // Positions are those written: the +x tip of the ellipsoid at t = 1 is 1 + D(1).
+  double xmax = -1;
+  for (int k = 0; k < s.num_nodes(); ++k) xmax = std::max(xmax, s.x[3 * k]);
+  EXPECT_NEAR(xmax, 1 + deformation(1, 0.3), 1e-14);
+  EXPECT_EQ(s.diag.tau_max, *std::max_element(s.tau1.begin(), s.tau1.end()));  // stored field
+  ASSERT_TRUE(fig::load_surface((d / "a").string(), 100, &s, &note));
+  EXPECT_EQ(s.time, 2.0);
+  // A damaged nearest file: the next nearest is used.
+  put(d / "a" / fig::surface_file_name(2), "<VTKFile");
+  ASSERT_TRUE(fig::load_surface((d / "a").string(), 100, &s, &note)) << note;
+  EXPECT_EQ(s.time, 1.0);
+  // No surface data: false, and the note says so.
+  EXPECT_FALSE(fig::load_surface((d / "b").string(), 1, &s, &note));
+  EXPECT_NE(note.find("no surface data"), std::string::npos) << note;
+  // Without surface.pvd the vtk/*.vtp files are scanned (time from their TimeValue).
+  fs::remove(d / "a" / fig::kSurfaceCollection);
+  ASSERT_TRUE(fig::load_surface((d / "a").string(), 0.1, &s, &note)) << note;
+  EXPECT_EQ(s.time, 0.0);
+}
+
+TEST(FigureCommand, EveryKindFromTwoRunsWithMatchingSidecars) {
+  if (!gnuplot_available()) GTEST_SKIP() << "gnuplot not installed (apt-get install gnuplot-nox)";
+  const fs::path d = fresh_dir("all");
+  make_run(d / "skalak", 0.3, true);
+  make_run(d / "neo", 0.5, false);
+  const fs::path out = d / "out";
+  const int rc = run_capflow((d / "skalak").string() + " " + (d / "neo").string() + " -o " +
+                                 out.string() + " --times 0,1,2 --width 320 --height 240",
+                             d / "log.txt");
+  ASSERT_EQ(rc, 0) << slurp(d / "log.txt");
+  const std::vector<std::string> plots = {"ts_D",
+                                          "ts_LSW",
+                                          "ts_edge_curvature",
+                                          "ts_tension",
+                                          "profiles_skalak_z",
+                                          "profiles_skalak_y",
+                                          "profiles_neo_z",
+                                          "profiles_neo_y",
+                                          "profiles_compare_z",
+                                          "profiles_compare_y",
+                                          "steady_half_lengths_vs_ca",
+                                          "steady_ScWc_vs_Lc",
+                                          "steady_ScWc_ratio_vs_Lc",
+                                          "steady_area_vs_ca",
+                                          "steady_area_vs_Lc",
+                                          "steady_edge_curvature_vs_Lc",
+                                          "steady_tau_max_vs_ca",
+                                          "steady_tau_max_vs_Lc",
+                                          "steady_tau_max_vs_strain"};
+  const std::string manifest = slurp(out / "figures.md");
+  for (const auto& p : plots) {
+    SCOPED_TRACE(p);
+    for (const char* ext : {".gp", ".dat", ".svg", ".png"}) {
+      ASSERT_TRUE(fs::exists(out / (p + ext))) << ext << "\n" << slurp(d / "log.txt");
+      EXPECT_GT(fs::file_size(out / (p + ext)), 100u) << ext;
+    }
+    std::string err;
+    EXPECT_EQ(xml_root(out / (p + ".svg"), &err), "svg") << err;
+    EXPECT_GT(png_size(out / (p + ".png")).first, 0);
+    EXPECT_NE(manifest.find("**" + p + "**"), std::string::npos);
+    EXPECT_FALSE(fs::exists(out / (p + ".gnuplot.log")));
+  }
+
+  // Time series sidecar: block r holds run r's (t, D) exactly.
+  for (const auto& [block, run] : {std::pair<int, const char*>{0, "skalak"}, {1, "neo"}}) {
+    const fig::Table ts = fig::read_csv((d / run / "timeseries.csv").string());
+    const auto dat = read_dat(out / "ts_D.dat");
+    ASSERT_EQ(dat.size(), 2u);
+    ASSERT_EQ(static_cast<long>(dat[block].size()), ts.rows());
+    const auto t = ts.column("t"), D = ts.column("D");
+    for (long r = 0; r < ts.rows(); ++r) {
+      EXPECT_EQ(dat[block][r][0], t[r]);
+      EXPECT_EQ(dat[block][r][1], D[r]);
+    }
+    const auto lsw = read_dat(out / "ts_tension.dat");
+    const auto tmax = ts.column("tau_max"), tmin = ts.column("tau_min");
+    for (long r = 0; r < ts.rows(); ++r) {
+      EXPECT_EQ(lsw[block][r][1], tmax[r]);
+      EXPECT_EQ(lsw[block][r][2], tmin[r]);
+    }
+  }
+  // Steady sidecars: Sc/Wc vs Lc and (Lc^2-1)/2 computed from steady.csv; log plot has
+  // every (positive) curvature.
+  {
+    const fig::Table st = fig::read_csv((d / "neo" / "steady.csv").string());
+    const auto lc = st.column("Lc"), sc = st.column("Sc"), wc = st.column("Wc");
+    const auto ratio = read_dat(out / "steady_ScWc_ratio_vs_Lc.dat");
+    ASSERT_EQ(ratio.size(), 2u);
+    ASSERT_EQ(static_cast<long>(ratio[1].size()), st.rows());
+    for (long r = 0; r < st.rows(); ++r) {
+      EXPECT_EQ(ratio[1][r][0], lc[r]);
+      EXPECT_EQ(ratio[1][r][1], sc[r] / wc[r]);
+    }
+    const auto strain = read_dat(out / "steady_tau_max_vs_strain.dat");
+    const auto tmax = st.column("tau_max");
+    for (long r = 0; r < st.rows(); ++r) {
+      EXPECT_EQ(strain[1][r][0], (lc[r] * lc[r] - 1) / 2);
+      EXPECT_EQ(strain[1][r][1], tmax[r]);
+    }
+    const auto half = read_dat(out / "steady_half_lengths_vs_ca.dat");
+    const auto ca = st.column("ca"), L = st.column("L"), Lcc = st.column("Lc");
+    for (long r = 0; r < st.rows(); ++r) {
+      EXPECT_EQ(half[1][r][0], ca[r]);
+      EXPECT_EQ(half[1][r][1], L[r]);
+      EXPECT_EQ(half[1][r][4], Lcc[r]);
+    }
+    EXPECT_NE(slurp(out / "steady_edge_curvature_vs_Lc.gp").find("set logscale y"),
+              std::string::npos);
+  }
+  // Profiles: block 0 the unit circle; blocks 1.. the profiles at t = 0, 1, 2 (the files with
+  // index 0, 2, 4), points in file order, first point repeated at the end.
+  {
+    const auto dat = read_dat(out / "profiles_skalak_y.dat");
+    ASSERT_EQ(dat.size(), 4u);
+    for (const auto& r : dat[0]) EXPECT_NEAR(std::hypot(r[0], r[1]), 1.0, 1e-14);
+    for (int k = 0; k < 3; ++k) {
+      char name[64];
+      std::snprintf(name, sizeof name, "profiles/profile_%06d.csv", 2 * k);
+      const fig::Profile p = fig::read_profile((d / "skalak" / name).string());
+      EXPECT_EQ(p.t, 1.0 * k);
+      ASSERT_EQ(dat[k + 1].size(), p.y.size() + 1);
+      for (size_t i = 0; i < p.y.size(); ++i) {
+        EXPECT_EQ(dat[k + 1][i][0], p.y[i].first);
+        EXPECT_EQ(dat[k + 1][i][1], p.y[i].second);
+      }
+      EXPECT_EQ(dat[k + 1].back(), dat[k + 1].front());
+    }
+    // Comparison: circle + one block per run, each at the last requested time (t = 2).
+    const auto cmp = read_dat(out / "profiles_compare_z.dat");
+    ASSERT_EQ(cmp.size(), 3u);
+    const fig::Profile neo = fig::read_profile((d / "neo/profiles/profile_000004.csv").string());
+    EXPECT_EQ(cmp[2][0][0], neo.z[0].first);
+    EXPECT_NEAR(cmp[2][0][0], 1 + deformation(2, 0.5), 1e-9);
+  }
+  // 3-D views: skalak has surfaces -> rendered at 320 x 240; neo has none -> the nearest frame
+  // (64 x 48) is copied, and the manifest says it was not rendered.
+  for (const char* t : {"t0", "t1", "t2"}) {
+    const fs::path v = out / (std::string("view_skalak_") + t + ".png");
+    ASSERT_TRUE(fs::exists(v)) << slurp(d / "log.txt");
+    EXPECT_EQ(png_size(v), std::make_pair(320, 240)) << slurp(d / "log.txt");
+  }
+  EXPECT_EQ(slurp(out / "view_neo_t1.png"), slurp(d / "neo/frames/frame_000002.png"));
+  EXPECT_EQ(slurp(out / "view_neo_t2.png"), slurp(d / "neo/frames/frame_000004.png"));
+  EXPECT_NE(manifest.find("view_neo_t1: NOT rendered"), std::string::npos) << manifest;
+  EXPECT_NE(slurp(d / "log.txt").find("NOT rendered"), std::string::npos);
+}
+
+TEST(FigureCommand, RenderedViewsFollowTheSurfaceInTime) {
+  // The rendered view changes with the requested time (the capsule elongates), and a time
+  // between saved surfaces gets the nearest one (the same image).
+  const fs::path d = fresh_dir("views");
+  make_run(d / "a", 0.4, true);
+  const int rc = run_capflow((d / "a").string() + " -o " + (d / "out").string() +
+                                 " --kinds views --times 0,2,1.9 --width 160 --height 120",
+                             d / "log.txt");
+  ASSERT_EQ(rc, 0) << slurp(d / "log.txt");
+  const std::string v0 = slurp(d / "out/view_a_t0.png"), v2 = slurp(d / "out/view_a_t2.png");
+  ASSERT_FALSE(v0.empty());
+  EXPECT_NE(v0, v2);
+  EXPECT_EQ(slurp(d / "out/view_a_t1.9.png"), v2);
+  EXPECT_NE(slurp(d / "out/figures.md").find("nearest saved surface t = 2"), std::string::npos);
+}
+
+TEST(FigureCommand, MissingDataIsSkippedWithAMessage) {
+  const fs::path d = fresh_dir("missing");
+  make_run(d / "full", 0.3, false);
+  fs::create_directories(d / "bare");
+  fs::copy_file(d / "full/timeseries.csv", d / "bare/timeseries.csv");
+  const int rc = run_capflow((d / "bare").string() + " -o " + (d / "out").string() +
+                                 " --kinds timeseries,steady,profiles --no-gnuplot",
+                             d / "log.txt");
+  ASSERT_EQ(rc, 0) << slurp(d / "log.txt");
+  const std::string log = slurp(d / "log.txt");
+  EXPECT_NE(log.find("run bare: no steady.csv"), std::string::npos) << log;
+  EXPECT_NE(log.find("run bare: no profiles"), std::string::npos) << log;
+  EXPECT_TRUE(fs::exists(d / "out/ts_D.gp"));
+  EXPECT_TRUE(fs::exists(d / "out/ts_D.dat"));
+  EXPECT_FALSE(fs::exists(d / "out/ts_D.svg"));  // --no-gnuplot: scripts only
+  EXPECT_FALSE(fs::exists(d / "out/steady_area_vs_Lc.dat"));
+  // The kept script reproduces the figure by itself (what users do after restyling).
+  if (gnuplot_available()) {
+    const std::string c = "cd " + (d / "out").string() + " && gnuplot ts_D.gp";
+    ASSERT_EQ(std::system(c.c_str()), 0);
+    std::string err;
+    EXPECT_EQ(xml_root(d / "out/ts_D.svg", &err), "svg") << err;
+  }
+  // User errors: exit code 2 and a message.
+  EXPECT_EQ(run_capflow((d / "nope").string() + " -o " + (d / "out2").string(), d / "log2.txt"), 2);
+  EXPECT_NE(slurp(d / "log2.txt").find("not a run directory"), std::string::npos);
+  EXPECT_EQ(run_capflow((d / "full").string() + " --kinds bogus -o " + (d / "out3").string(),
+                        d / "log3.txt"),
+            2);
+}
