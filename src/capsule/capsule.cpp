@@ -35,11 +35,17 @@ Capsule::Capsule(const geometry::Mesh& mesh, const membrane::LawOptions& law, co
     throw std::invalid_argument(
         "viscosity_ratio = " + std::to_string(opt_.viscosity_ratio) +
         " is not implemented yet: only 1 (equal viscosities, no double-layer solve) is supported");
-  membrane_ = std::make_unique<membrane::Membrane>(mesh, mesh.reference(), membrane::make_law(law));
+  ref_basis_ = tangent_basis(mesh, mesh.reference());
+  {
+    // The membrane's reference tangents are those the dynamics sees for the reference shape,
+    // so the undeformed capsule is exactly stress-free.
+    Eigen::Matrix3Xd t1, t2;
+    tangents(mesh.reference(), &t1, &t2);
+    membrane_ = std::make_unique<membrane::Membrane>(mesh, t1, t2, membrane::make_law(law));
+  }
   ops_ = std::make_unique<stokes::BoundaryOperators>(mesh, opt_.quadrature);
   symmetry_ = std::make_unique<SymmetryMap>(mesh, symmetry_for(flow_, opt_.symmetry));
   no_symmetry_ = std::make_unique<SymmetryMap>(mesh, SymmetryKind::None);
-  ref_basis_ = tangent_basis(mesh, mesh.reference());
   x_ = mesh.reference();
   // The nodal sphere is C1 across element edges only to discretisation accuracy; start from its
   // smoothed version so that V0 (and the volume drift) refers to the state actually advanced.

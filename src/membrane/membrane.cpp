@@ -84,15 +84,29 @@ PointPrincipal point_principal(const Law& law, const PointKinematics& k) {
   return p;
 }
 
+namespace {
+Matrix3Xd reference_derivative(const geometry::Mesh& mesh, const Matrix3Xd& reference, int dir) {
+  if (reference.cols() != mesh.num_local())
+    throw std::invalid_argument("Membrane: reference has wrong size");
+  const MatrixXd xr = reference;
+  return dir == 0 ? geometry::d_xi(mesh, xr) : geometry::d_eta(mesh, xr);
+}
+}  // namespace
+
 Membrane::Membrane(const geometry::Mesh& mesh, const Matrix3Xd& reference,
+                   std::shared_ptr<const Law> law, int nq)
+    : Membrane(mesh, reference_derivative(mesh, reference, 0),
+               reference_derivative(mesh, reference, 1), std::move(law), nq) {}
+
+Membrane::Membrane(const geometry::Mesh& mesh, const Matrix3Xd& ref_t1, const Matrix3Xd& ref_t2,
                    std::shared_ptr<const Law> law, int nq)
     : mesh_(mesh), law_(std::move(law)), nq_(nq > 0 ? nq : mesh.nb() + 4) {
   if (!law_) throw std::invalid_argument("Membrane: null law");
   const int n = mesh.num_local();
-  if (reference.cols() != n) throw std::invalid_argument("Membrane: reference has wrong size");
-  const MatrixXd xr = reference;
-  ref_t1_ = geometry::d_xi(mesh, xr);
-  ref_t2_ = geometry::d_eta(mesh, xr);
+  if (ref_t1.cols() != n || ref_t2.cols() != n)
+    throw std::invalid_argument("Membrane: reference tangents have wrong size");
+  ref_t1_ = ref_t1;
+  ref_t2_ = ref_t2;
   for (VectorXd* v : {&gi11_, &gi12_, &gi22_, &sqrt_g_}) v->resize(n);
   for (int m = 0; m < n; ++m) {
     const Vector3d T1 = ref_t1_.col(m), T2 = ref_t2_.col(m);

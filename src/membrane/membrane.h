@@ -80,6 +80,11 @@ class Membrane {
   // nq: Gauss points per direction for the energy integral (0 -> nb + 4).
   Membrane(const geometry::Mesh& mesh, const Matrix3Xd& reference, std::shared_ptr<const Law> law,
            int nq = 0);
+  // The same with the reference tangents given at every local node (e.g. the smoothed tangents
+  // of the reference, so that an undeformed state seen through the same smoothing is exactly
+  // stress-free).
+  Membrane(const geometry::Mesh& mesh, const Matrix3Xd& ref_t1, const Matrix3Xd& ref_t2,
+           std::shared_ptr<const Law> law, int nq = 0);
 
   const Law& law() const { return *law_; }
   void set_law(std::shared_ptr<const Law> law);
