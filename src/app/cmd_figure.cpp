@@ -702,13 +702,16 @@ void setup(CLI::App& root) {
   sub->add_option("runs", c->runs, "run directories (several: overlaid / compared)")->required();
   sub->add_option("-o,--output", c->out, "output directory (created)");
   sub->add_option("--kinds", c->kinds, "timeseries,profiles,steady,views (default all)")
-      ->delimiter(',');
+      ->delimiter(',')
+      ->allow_extra_args(false);
   sub->add_option("--times", c->times,
                   "T1,T2,...: times of profiles and 3-D views (nearest available); default "
                   "profiles: 4 spread over the run, views: the last saved time")
-      ->delimiter(',');
+      ->delimiter(',')
+      ->allow_extra_args(false);
   sub->add_option("--labels", c->labels, "legend labels, one per run (default: directory names)")
-      ->delimiter(',');
+      ->delimiter(',')
+      ->allow_extra_args(false);
   sub->add_option("--vector", c->vector, "vector format: svg | pdf");
   sub->add_flag("--no-png", c->no_png, "no PNG beside the vector image");
   sub->add_flag("--no-gnuplot", c->no_gnuplot, "write the .gp/.dat files without running gnuplot");
@@ -717,7 +720,8 @@ void setup(CLI::App& root) {
   sub->add_option("--field", c->field, "3-D view colour: max | min | mean | plain");
   sub->add_option("--colormap", c->colormap, "viridis | coolwarm");
   sub->add_option("--range", c->range, "fixed colour range MIN,MAX (default automatic)")
-      ->delimiter(',');
+      ->delimiter(',')
+      ->allow_extra_args(false);
   sub->add_option("--backend", c->backend, "auto | egl | osmesa");
   sub->callback([c] { set_exit_code(run(*c)); });
 }
