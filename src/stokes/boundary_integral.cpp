@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "geometry/shapes.h"
 #include "geometry/surface.h"
 #include "spectral/spectral.h"
 
@@ -24,6 +25,41 @@ constexpr int kMaxEdge = 256;  // Gauss points along an edge
 
 using LineRule = BoundaryOperators::Rule;
 
+// Radial nodes (u, weight) on [0, 1] for one edge of a polar rule. h <= 0 (own element):
+// Gauss-Legendre gr in u. h > 0 (near element, scale h in u): the inner panel [0, u1],
+// u1 = min(1/2, split h) (split <= 0: u1 = 1), mapped by u = h sinh(sigma) with gi in sigma
+// (further split into panels of length <= 6 in sigma), and the outer panel [u1, 1] with go
+// in u (the sinh map alone under-resolves the polynomial part of the integrand far from p*).
+struct RadialOpt {
+  const spectral::Rule* gi = nullptr;
+  const spectral::Rule* go = nullptr;
+  double split = 0.0;
+};
+void radial_nodes(double h, const spectral::Rule& gr, const RadialOpt& ro,
+                  std::vector<std::pair<double, double>>& rad) {
+  rad.clear();
+  if (h <= 0.0) {
+    for (int b = 0; b < gr.x.size(); ++b) rad.emplace_back(0.5 * (gr.x[b] + 1.0), 0.5 * gr.w[b]);
+    return;
+  }
+  const spectral::Rule& gi = ro.gi ? *ro.gi : gr;
+  const double u1 = ro.split > 0.0 ? std::min(1.0, ro.split) : 1.0;
+  const double sig_max = std::asinh(u1 / h);
+  constexpr double kPanel = 6.0;
+  const int panels = std::max(1, static_cast<int>(std::ceil(sig_max / kPanel)));
+  const double dsig = sig_max / panels;
+  for (int pan = 0; pan < panels; ++pan)
+    for (int b = 0; b < gi.x.size(); ++b) {
+      const double sig = dsig * (pan + 0.5 * (gi.x[b] + 1.0));
+      rad.emplace_back(h * std::sinh(sig), 0.5 * dsig * gi.w[b] * h * std::cosh(sig));
+    }
+  if (u1 < 1.0) {
+    const spectral::Rule& go = ro.go ? *ro.go : gr;
+    for (int b = 0; b < go.x.size(); ++b)
+      rad.emplace_back(u1 + 0.5 * (1 - u1) * (go.x[b] + 1.0), 0.5 * (1 - u1) * go.w[b]);
+  }
+}
+
 // Perpendicular/sinh polar rule around p0 = (s0, t0) in [-1,1]^2 (see the header), built as
 // lines: along every ray p0 -> edge point the coordinate perpendicular to that edge depends
 // only on the ray fraction u, so for a fixed u the points of the two triangles on one edge
@@ -32,7 +68,7 @@ using LineRule = BoundaryOperators::Rule;
 // (near elements), sigma in [0, asinh(1/hu)] split into panels of length <= 6.
 // Edges in the order s = -1, s = +1 (constant-s lines), t = -1, t = +1 (constant-t lines).
 void polar_rule(double s0, double t0, const double* hu, const spectral::Rule& ge,
-                const spectral::Rule& gr, LineRule& R) {
+                const spectral::Rule& gr, LineRule& R, const RadialOpt& ro = RadialOpt()) {
   R.c.clear();
   R.start.clear();
   R.o.clear();
@@ -50,16 +86,14 @@ void polar_rule(double s0, double t0, const double* hu, const spectral::Rule& ge
       {s0, 1.0, 1.0 - t0, 0, s0 + 1.0, 1.0 - s0},
   };
   constexpr double kTiny = 1e-14;
-  constexpr double kPanel = 6.0;
-  const int nge = static_cast<int>(ge.x.size()), ngr = static_cast<int>(gr.x.size());
+  const int nge = static_cast<int>(ge.x.size());
+  std::vector<std::pair<double, double>> rad;
   for (int ei = 0; ei < 4; ++ei) {
     if (ei == 2) R.n0 = static_cast<int>(R.c.size());
     const Edge& E = edges[ei];
     if (E.d < kTiny) continue;
     const double h = hu[ei];
-    const double sig_max = h > 0.0 ? std::asinh(1.0 / h) : 0.0;
-    const int panels = h > 0.0 ? std::max(1, static_cast<int>(std::ceil(sig_max / kPanel))) : 1;
-    const double dsig = sig_max / panels;
+    radial_nodes(h, gr, ro, rad);
     // coordinate along the edge of the foot and of p0 (the same), and across
     const double p_along = E.axis == 1 ? t0 : s0;
     const double p_across = E.axis == 1 ? s0 : t0;
@@ -80,18 +114,8 @@ void polar_rule(double s0, double t0, const double* hu, const spectral::Rule& ge
       }
       cnt[k] = nge;
     }
-    for (int pan = 0; pan < panels; ++pan)
-      for (int b = 0; b < ngr; ++b) {
-        double u, wu;
-        if (h <= 0.0) {
-          u = 0.5 * (gr.x[b] + 1.0);
-          wu = 0.5 * gr.w[b];
-        } else {
-          const double sig = dsig * (pan + 0.5 * (gr.x[b] + 1.0));
-          const double ex = std::exp(sig), sh = 0.5 * (ex - 1.0 / ex), ch = 0.5 * (ex + 1.0 / ex);
-          u = h * (sig < 1e-3 ? std::sinh(sig) : sh);
-          wu = 0.5 * dsig * gr.w[b] * h * ch;
-        }
+    for (const auto& uw : rad) {
+        const double u = uw.first, wu = uw.second;
         R.c.push_back(p_across + u * (f_across - p_across));
         R.start.push_back(static_cast<int>(R.o.size()));
         for (int k = 0; k < 2; ++k)
@@ -230,27 +254,59 @@ void nearest_point(const geometry::Mesh& mesh, const Matrix3Xd& x, int e, const 
   }
   s = mesh.nodes()[best % nb];
   t = mesh.nodes()[best / nb];
+  // Projected Newton with an active set: a coordinate on the boundary of the square whose
+  // gradient points outwards is held fixed, Newton (Gauss-Newton where the Hessian is not
+  // positive definite) runs in the free ones, and the clipped step is halved until the
+  // distance decreases. (Clipping a full 2-D step instead can stall at a corner that is not
+  // the nearest point.)
   Eval2 p = eval2(mesh, x, e, s, t);
-  for (int it = 0; it < 30; ++it) {
+  double f = (p.x - x0).squaredNorm();
+  for (int it = 0; it < 50; ++it) {
     const Vector3d r = p.x - x0;
     const double g1 = p.xs.dot(r), g2 = p.xt.dot(r);
+    const bool fs = !((s <= -1.0 && g1 > 0.0) || (s >= 1.0 && g1 < 0.0));
+    const bool ft = !((t <= -1.0 && g2 > 0.0) || (t >= 1.0 && g2 < 0.0));
+    if (!fs && !ft) break;  // a corner satisfying the optimality conditions
     double h11 = p.xs.squaredNorm() + p.xss.dot(r);
     double h12 = p.xs.dot(p.xt) + p.xst.dot(r);
     double h22 = p.xt.squaredNorm() + p.xtt.dot(r);
-    double det = h11 * h22 - h12 * h12;
-    if (!(h11 > 0.0 && det > 0.0)) {  // fall back to Gauss-Newton
-      h11 = p.xs.squaredNorm();
-      h12 = p.xs.dot(p.xt);
-      h22 = p.xt.squaredNorm();
-      det = h11 * h22 - h12 * h12;
+    double ds = 0, dt = 0;
+    if (fs && ft) {
+      double det = h11 * h22 - h12 * h12;
+      if (!(h11 > 0.0 && det > 0.0)) {  // fall back to Gauss-Newton
+        h11 = p.xs.squaredNorm();
+        h12 = p.xs.dot(p.xt);
+        h22 = p.xt.squaredNorm();
+        det = h11 * h22 - h12 * h12;
+      }
+      ds = -(h22 * g1 - h12 * g2) / det;
+      dt = -(-h12 * g1 + h11 * g2) / det;
+    } else if (fs) {
+      ds = -g1 / (h11 > 0.0 ? h11 : p.xs.squaredNorm());
+    } else {
+      dt = -g2 / (h22 > 0.0 ? h22 : p.xt.squaredNorm());
     }
-    const double ds = -(h22 * g1 - h12 * g2) / det;
-    const double dt = -(-h12 * g1 + h11 * g2) / det;
-    const double sn = std::clamp(s + ds, -1.0, 1.0), tn = std::clamp(t + dt, -1.0, 1.0);
+    double sn = s, tn = t, fn = f;
+    Eval2 pn;
+    bool improved = false;
+    for (int half = 0; half < 30; ++half) {
+      sn = std::clamp(s + ds, -1.0, 1.0);
+      tn = std::clamp(t + dt, -1.0, 1.0);
+      pn = eval2(mesh, x, e, sn, tn);
+      fn = (pn.x - x0).squaredNorm();
+      if (fn <= f) {
+        improved = true;
+        break;
+      }
+      ds *= 0.5;
+      dt *= 0.5;
+    }
+    if (!improved) break;
     const double step = std::abs(sn - s) + std::abs(tn - t);
     s = sn;
     t = tn;
-    p = eval2(mesh, x, e, s, t);
+    p = pn;
+    f = fn;
     if (step < 1e-13) break;
   }
   h = (p.x - x0).norm();
@@ -263,46 +319,7 @@ void nearest_point(const geometry::Mesh& mesh, const Matrix3Xd& x, int e, const 
 struct FarData {
   int nq = 0;
   RowMat d;
-  std::vector<Vector3d> centre;
-  std::vector<double> radius, size;
 };
-
-template <BoundaryOperators::Mode M>
-inline void kernel(const Vector3d& x0, const Vector3d& u0, double px, double py, double pz,
-                   const double* dens, const double* nw, double wj, double* acc) {
-  using Mode = BoundaryOperators::Mode;
-  const double rx = px - x0[0], ry = py - x0[1], rz = pz - x0[2];
-  const double r2 = rx * rx + ry * ry + rz * rz;
-  const double ir = 1.0 / std::sqrt(r2);
-  const double ir3 = ir * ir * ir;
-  if constexpr (M == Mode::Single) {
-    const double rd = rx * dens[0] + ry * dens[1] + rz * dens[2];
-    const double a = wj * ir, b = wj * rd * ir3;
-    acc[0] += a * dens[0] + b * rx;
-    acc[1] += a * dens[1] + b * ry;
-    acc[2] += a * dens[2] + b * rz;
-  } else if constexpr (M == Mode::SingleNormal) {
-    const double rn = rx * nw[0] + ry * nw[1] + rz * nw[2];
-    const double b = rn * ir3;
-    acc[0] += ir * nw[0] + b * rx;
-    acc[1] += ir * nw[1] + b * ry;
-    acc[2] += ir * nw[2] + b * rz;
-  } else if constexpr (M == Mode::Double) {
-    const double qx = dens[0] - u0[0], qy = dens[1] - u0[1], qz = dens[2] - u0[2];
-    const double rq = rx * qx + ry * qy + rz * qz;
-    const double rn = rx * nw[0] + ry * nw[1] + rz * nw[2];
-    const double a = -6.0 * rq * rn * ir3 * ir * ir;
-    acc[0] += a * rx;
-    acc[1] += a * ry;
-    acc[2] += a * rz;
-  } else {
-    const double rn = rx * nw[0] + ry * nw[1] + rz * nw[2];
-    const double a = -6.0 * rn * ir3 * ir * ir;
-    const double r[3] = {rx, ry, rz};
-    for (int j = 0; j < 3; ++j)
-      for (int i = 0; i < 3; ++i) acc[i + 3 * j] += a * r[i] * r[j];
-  }
-}
 
 constexpr bool uses_density(BoundaryOperators::Mode m) {
   return m == BoundaryOperators::Mode::Single || m == BoundaryOperators::Mode::Double;
@@ -344,6 +361,10 @@ void line_sum(int nb, int K, const LineRule& R, double sign, const Vector3d& x0,
   using Mode = BoundaryOperators::Mode;
   const int nl = R.nl(), n0 = R.n0, n1 = nl - n0;
   const int Kn = K * nb, n3 = 3 * nb;
+  if (sc.A.rows() < nl) {
+    sc.A.resize(nl, 6 * nb);
+    sc.B.resize(nl, 3 * nb);
+  }
   if (n0 > 0) {
     sc.A.topLeftCorner(n0, Kn).noalias() = R.Lc.leftCols(n0).transpose() * sc.D0.leftCols(Kn);
     sc.B.topLeftCorner(n0, n3).noalias() = R.dLc.leftCols(n0).transpose() * sc.D0.leftCols(n3);
@@ -466,6 +487,83 @@ void line_sum(int nb, int K, const LineRule& R, double sign, const Vector3d& x0,
   }
 }
 
+// Single layer with the product g = J f interpolated from its nodal values (sc.D0/D1 hold x
+// and g): 6 values per point instead of 12 (no tangents, no derivative bases).
+void line_sum_jf(int nb, const LineRule& R, double sign, const Vector3d& x0, Scratch& sc,
+                 double* acc) {
+  const int nl = R.nl(), n0 = R.n0, n1 = nl - n0;
+  const int Kn = 6 * nb;
+  if (sc.A.rows() < nl) {
+    sc.A.resize(nl, 6 * nb);
+    sc.B.resize(nl, 3 * nb);
+  }
+  if (n0 > 0)
+    sc.A.topLeftCorner(n0, Kn).noalias() = R.Lc.leftCols(n0).transpose() * sc.D0.leftCols(Kn);
+  if (n1 > 0)
+    sc.A.block(n0, 0, n1, Kn).noalias() =
+        R.Lc.middleCols(n0, n1).transpose() * sc.D1.leftCols(Kn);
+  const int ld = static_cast<int>(R.LoT.rows());
+  const double X0 = x0[0], X1 = x0[1], X2 = x0[2];
+  double s0 = 0, s1 = 0, s2 = 0;
+  for (int l = 0; l < nl; ++l) {
+    const int p0 = R.start[l], m = R.start[l + 1] - p0;
+    if (m == 0) continue;
+    const double* A = sc.A.row(l).data();
+    const int ms = (m + 3) & ~3;
+    double* __restrict P0 = sc.v.data();
+    double* __restrict P1 = P0 + ms;
+    double* __restrict P2 = P0 + 2 * ms;
+    double* __restrict G0 = P0 + 3 * ms;
+    double* __restrict G1 = P0 + 4 * ms;
+    double* __restrict G2 = P0 + 5 * ms;
+    {
+      const double* __restrict lo = R.LoT.data() + p0;
+      const double c0 = A[0], c1 = A[nb], c2 = A[2 * nb];
+      const double e0 = A[3 * nb], e1 = A[4 * nb], e2 = A[5 * nb];
+#pragma omp simd
+      for (int p = 0; p < m; ++p) {
+        P0[p] = c0 * lo[p];
+        P1[p] = c1 * lo[p];
+        P2[p] = c2 * lo[p];
+        G0[p] = e0 * lo[p];
+        G1[p] = e1 * lo[p];
+        G2[p] = e2 * lo[p];
+      }
+    }
+    for (int j = 1; j < nb; ++j) {
+      const double* __restrict lo = R.LoT.data() + static_cast<long>(j) * ld + p0;
+      const double c0 = A[j], c1 = A[nb + j], c2 = A[2 * nb + j];
+      const double e0 = A[3 * nb + j], e1 = A[4 * nb + j], e2 = A[5 * nb + j];
+#pragma omp simd
+      for (int p = 0; p < m; ++p) {
+        P0[p] += c0 * lo[p];
+        P1[p] += c1 * lo[p];
+        P2[p] += c2 * lo[p];
+        G0[p] += e0 * lo[p];
+        G1[p] += e1 * lo[p];
+        G2[p] += e2 * lo[p];
+      }
+    }
+    const double* w = R.w.data() + p0;
+#pragma omp simd reduction(+ : s0, s1, s2)
+    for (int p = 0; p < m; ++p) {
+      const double rx = P0[p] - X0, ry = P1[p] - X1, rz = P2[p] - X2;
+      const double r2 = rx * rx + ry * ry + rz * rz;
+      const double ir = 1.0 / std::sqrt(r2);
+      const double a = w[p] * ir;
+      const double b = a * ir * ir * (rx * G0[p] + ry * G1[p] + rz * G2[p]);
+      s0 += a * G0[p] + b * rx;
+      s1 += a * G1[p] + b * ry;
+      s2 += a * G2[p] + b * rz;
+    }
+  }
+  // the rule's orientation does not change |J|: sign only enters through n, unused here
+  (void)sign;
+  acc[0] += s0;
+  acc[1] += s1;
+  acc[2] += s2;
+}
+
 }  // namespace
 
 BoundaryOperators::BoundaryOperators(const geometry::Mesh& mesh, QuadratureOptions options)
@@ -473,17 +571,94 @@ BoundaryOperators::BoundaryOperators(const geometry::Mesh& mesh, QuadratureOptio
   const int nb = mesh.nb();
   if (nb > kMaxNb) throw std::invalid_argument("BoundaryOperators: nb too large");
   if (opt_.nq_far <= 0) opt_.nq_far = nb + 3;
+  if (opt_.nq_mid <= 0) opt_.nq_mid = 2 * nb + 4;
   if (opt_.n_edge <= 0) opt_.n_edge = 2 * nb;
-  if (opt_.n_radial <= 0) opt_.n_radial = nb + 2;
+  if (opt_.n_radial <= 0) opt_.n_radial = nb + 4;
   if (opt_.n_edge_near <= 0) opt_.n_edge_near = nb + 2;
-  if (opt_.n_radial_near <= 0) opt_.n_radial_near = 2 * nb - 4;
+  if (opt_.n_radial_near <= 0) opt_.n_radial_near = nb;
+  if (opt_.n_radial_near_out <= 0) opt_.n_radial_near_out = nb;
   if (opt_.n_edge > kMaxEdge || opt_.n_edge_near > kMaxEdge)
     throw std::invalid_argument("BoundaryOperators: n_edge / n_edge_near > 256");
-  const spectral::Rule ge = spectral::gauss_legendre(opt_.n_edge);
-  const spectral::Rule gr = spectral::gauss_legendre(opt_.n_radial);
   const VectorXd& xi = mesh.nodes();
   canon_rule_.assign(nb * nb, -1);
   canon_sym_.assign(nb * nb, 0);
+  canon_perm_.assign(8, std::vector<int>(nb * nb));
+  for (int sym = 0; sym < 8; ++sym)
+    for (int b = 0; b < nb; ++b)
+      for (int a = 0; a < nb; ++a) {
+        const int al = (sym & 4) ? b : a, be = (sym & 4) ? a : b;
+        const int i = (sym & 1) ? nb - 1 - al : al, j = (sym & 2) ? nb - 1 - be : be;
+        canon_perm_[sym][a + nb * b] = i + nb * j;
+      }
+  std::map<int, spectral::Rule> gauss;
+  auto gl = [&gauss](int n) -> const spectral::Rule& {
+    auto it = gauss.find(n);
+    if (it == gauss.end()) it = gauss.emplace(n, spectral::gauss_legendre(n)).first;
+    return it->second;
+  };
+  const double hu0[4] = {0, 0, 0, 0};
+  auto make_rule = [&](int ic, int jc, int n_e, int n_r) {
+    Rule r;
+    polar_rule(xi[ic], xi[jc], hu0, gl(n_e), gl(n_r), r);
+    fill_bases(mesh, r);
+    return r;
+  };
+
+  // Own-rule selection (own_tolerance > 0): for every canonical node, the rule with the fewest
+  // points among n_edge in {4, 6, .., 2 nb + 4} x n_radial in {nb - 2, .., nb + 8} whose
+  // own-element single layer matches a high-order rule (3 nb, 2 nb + 4) to own_tolerance
+  // (relative to the largest value) for the smooth density f = (1 + 0.3 x, 0.5 - 0.2 y
+  // + 0.1 x z, cos z) on the discrete unit sphere and the ellipsoid (1.8, 0.7, 1.0), with the
+  // node placed in elements 0, ne/2 and ne-1.
+  struct Probe {
+    Matrix3Xd x, f;
+  };
+  std::vector<Probe> probes;
+  std::vector<int> probe_elems = {0, mesh.ne() / 2, mesh.ne() - 1};
+  Scratch sc;
+  if (opt_.own_tolerance > 0.0) {
+    for (int g = 0; g < 2; ++g) {
+      Probe pr;
+      pr.x = g == 0 ? mesh.reference()
+                    : geometry::map_points(mesh.reference(),
+                                           geometry::ellipsoid_map(1.8, 0.7, 1.0));
+      pr.f.resize(3, mesh.num_local());
+      for (int m = 0; m < mesh.num_local(); ++m) {
+        const Vector3d q = pr.x.col(m);
+        pr.f.col(m) = Vector3d(1.0 + 0.3 * q[0], 0.5 - 0.2 * q[1] + 0.1 * q[0] * q[2],
+                               std::cos(q[2]));
+      }
+      probes.push_back(std::move(pr));
+    }
+    sc.D0.resize(nb, 6 * nb);
+    sc.D1.resize(nb, 6 * nb);
+  }
+  auto own_values = [&](const Rule& r, int ic, int jc) {
+    std::vector<double> v;
+    if (sc.A.rows() < r.nl()) {
+      sc.A.resize(r.nl(), 6 * nb);
+      sc.B.resize(r.nl(), 3 * nb);
+    }
+    int ml = 0;
+    for (int l = 0; l < r.nl(); ++l) ml = std::max(ml, r.start[l + 1] - r.start[l]);
+    if (sc.v.size() < 12 * static_cast<size_t>(ml + 4)) sc.v.resize(12 * (ml + 4));
+    for (const Probe& pr : probes)
+      for (int e : probe_elems) {
+        const Vector3d x0 = pr.x.col(mesh.local(e, ic, jc));
+        double acc[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+        load_element(nb, 6, pr.x, &pr.f, e * nb * nb, nullptr, sc);
+        line_sum<Mode::Single>(nb, 6, r, 1.0, x0, Vector3d::Zero(), sc, acc);
+        v.insert(v.end(), acc, acc + 3);
+      }
+    return v;
+  };
+  std::vector<std::pair<int, int>> cands;  // (n_e, n_r), by n_e * n_r
+  for (int n_r = std::max(2, nb - 2); n_r <= nb + 8; ++n_r)
+    for (int n_e = 4; n_e <= 2 * nb + 4; n_e += 2) cands.emplace_back(n_e, n_r);
+  std::stable_sort(cands.begin(), cands.end(), [](const auto& a, const auto& b) {
+    return a.first * a.second < b.first * b.second;
+  });
+
   std::map<int, int> key_to_rule;
   for (int j = 0; j < nb; ++j)
     for (int i = 0; i < nb; ++i) {
@@ -495,23 +670,32 @@ BoundaryOperators::BoundaryOperators(const geometry::Mesh& mesh, QuadratureOptio
       auto it = key_to_rule.find(key);
       if (it == key_to_rule.end()) {
         Rule r;
-        const double hu[4] = {0, 0, 0, 0};
-        polar_rule(xi[ic], xi[jc], hu, ge, gr, r);
-        fill_bases(mesh, r);
+        if (opt_.own_tolerance > 0.0) {
+          const std::vector<double> ref = own_values(make_rule(ic, jc, 3 * nb, 2 * nb + 4), ic, jc);
+          double scale = 0;
+          for (double v : ref) scale = std::max(scale, std::abs(v));
+          bool found = false;
+          for (const auto& c : cands) {
+            Rule trial = make_rule(ic, jc, c.first, c.second);
+            const std::vector<double> v = own_values(trial, ic, jc);
+            double err = 0;
+            for (size_t q = 0; q < v.size(); ++q) err = std::max(err, std::abs(v[q] - ref[q]));
+            if (err <= opt_.own_tolerance * scale) {
+              r = std::move(trial);
+              found = true;
+              break;
+            }
+          }
+          if (!found) r = make_rule(ic, jc, opt_.n_edge, opt_.n_radial);
+        } else {
+          r = make_rule(ic, jc, opt_.n_edge, opt_.n_radial);
+        }
         it = key_to_rule.emplace(key, static_cast<int>(rules_.size())).first;
         rules_.push_back(std::move(r));
       }
       canon_rule_[i + nb * j] = it->second;
       canon_sym_[i + nb * j] = (fi ? 1 : 0) | (fj ? 2 : 0) | (sw ? 4 : 0);
     }
-  canon_perm_.assign(8, std::vector<int>(nb * nb));
-  for (int sym = 0; sym < 8; ++sym)
-    for (int b = 0; b < nb; ++b)
-      for (int a = 0; a < nb; ++a) {
-        const int al = (sym & 4) ? b : a, be = (sym & 4) ? a : b;
-        const int i = (sym & 1) ? nb - 1 - al : al, j = (sym & 2) ? nb - 1 - be : be;
-        canon_perm_[sym][a + nb * b] = i + nb * j;
-      }
 }
 
 long BoundaryOperators::own_rule_points() const {
@@ -519,6 +703,131 @@ long BoundaryOperators::own_rule_points() const {
   for (const Rule& r : rules_) n += r.np();
   return n;
 }
+
+namespace {
+// Far-field data of every element at nq x nq Gauss-Legendre points, one row each:
+// 0-2 x, 3-5 density, 6-8 w (x_xi x x_eta), 9 w J. esize (optional): element size, the mean
+// length of its longer family of coordinate lines.
+template <BoundaryOperators::Mode M>
+void far_data(const geometry::Mesh& mesh, const Matrix3Xd& x, const Matrix3Xd* dens, int nq,
+              FarData& F, std::vector<double>* esize) {
+  const int nb = mesh.nb(), nb2 = nb * nb, ne = mesh.ne();
+  const spectral::Rule gq = spectral::gauss_legendre(nq);
+  const MatrixXd I = spectral::interpolation_matrix(mesh.nodes(), gq.x);
+  const MatrixXd Id = spectral::derivative_matrix(mesh.nodes(), gq.x);
+  const int nqe = nq * nq;
+  F.nq = nq;
+  F.d.resize(10, ne * nqe);
+  MatrixXd X(nb, nb);
+  MatrixXd xq[3], xsq[3], xtq[3], dq[3];
+  for (int e = 0; e < ne; ++e) {
+    for (int k = 0; k < 3; ++k) {
+      for (int j = 0; j < nb; ++j)
+        for (int i = 0; i < nb; ++i) X(i, j) = x(k, e * nb2 + j * nb + i);
+      const MatrixXd XI = X * I.transpose();
+      xq[k].noalias() = I * XI;
+      xsq[k].noalias() = Id * XI;
+      xtq[k].noalias() = I * X * Id.transpose();
+      if (uses_density(M)) {
+        for (int j = 0; j < nb; ++j)
+          for (int i = 0; i < nb; ++i) X(i, j) = (*dens)(k, e * nb2 + j * nb + i);
+        dq[k].noalias() = I * X * I.transpose();
+      }
+    }
+    double ls = 0, lt = 0;
+    for (int b = 0; b < nq; ++b)
+      for (int a = 0; a < nq; ++a) {
+        const int q = e * nqe + b * nq + a;
+        const Vector3d xs(xsq[0](a, b), xsq[1](a, b), xsq[2](a, b));
+        const Vector3d xt(xtq[0](a, b), xtq[1](a, b), xtq[2](a, b));
+        const Vector3d c = xs.cross(xt);
+        const double w = gq.w[a] * gq.w[b];
+        const double wj = w * c.norm();
+        ls += w * xs.norm();
+        lt += w * xt.norm();
+        for (int k = 0; k < 3; ++k) {
+          F.d(k, q) = xq[k](a, b);
+          F.d(6 + k, q) = w * c[k];
+          F.d(3 + k, q) = uses_density(M) ? dq[k](a, b) : 0.0;
+        }
+        F.d(9, q) = wj;
+      }
+    // mean length of the longer family of coordinate lines (= 2 * mean |x_xi| or |x_eta|)
+    if (esize) (*esize)[e] = 0.5 * std::max(ls, lt);
+  }
+}
+
+// Kernel sum over the far points [q0, q1) of F.
+template <BoundaryOperators::Mode M>
+void far_sum(const FarData& F, int q0, int q1, const Vector3d& x0, const Vector3d& u0,
+             double* acc) {
+  using Mode = BoundaryOperators::Mode;
+  const double* __restrict px = F.d.row(0).data();
+  const double* __restrict py = F.d.row(1).data();
+  const double* __restrict pz = F.d.row(2).data();
+  const double* __restrict fx = F.d.row(3).data();
+  const double* __restrict fy = F.d.row(4).data();
+  const double* __restrict fz = F.d.row(5).data();
+  const double* __restrict nx = F.d.row(6).data();
+  const double* __restrict ny = F.d.row(7).data();
+  const double* __restrict nz = F.d.row(8).data();
+  const double* __restrict wj = F.d.row(9).data();
+  const double X0 = x0[0], X1 = x0[1], X2 = x0[2];
+  const double U0 = u0[0], U1 = u0[1], U2 = u0[2];
+  double s0 = 0, s1 = 0, s2 = 0, s3 = 0, s4 = 0, s5 = 0, s6 = 0, s7 = 0, s8 = 0;
+#pragma omp simd reduction(+ : s0, s1, s2, s3, s4, s5, s6, s7, s8)
+  for (int q = q0; q < q1; ++q) {
+    const double rx = px[q] - X0, ry = py[q] - X1, rz = pz[q] - X2;
+    const double r2 = rx * rx + ry * ry + rz * rz;
+    const double ir = 1.0 / std::sqrt(r2);
+    const double ir3 = ir * ir * ir;
+    if constexpr (M == Mode::Single) {
+      const double rd = rx * fx[q] + ry * fy[q] + rz * fz[q];
+      const double a = wj[q] * ir, b = wj[q] * rd * ir3;
+      s0 += a * fx[q] + b * rx;
+      s1 += a * fy[q] + b * ry;
+      s2 += a * fz[q] + b * rz;
+    } else if constexpr (M == Mode::SingleNormal) {
+      const double rn = rx * nx[q] + ry * ny[q] + rz * nz[q];
+      const double b = rn * ir3;
+      s0 += ir * nx[q] + b * rx;
+      s1 += ir * ny[q] + b * ry;
+      s2 += ir * nz[q] + b * rz;
+    } else if constexpr (M == Mode::Double) {
+      const double qx = fx[q] - U0, qy = fy[q] - U1, qz = fz[q] - U2;
+      const double rq = rx * qx + ry * qy + rz * qz;
+      const double rn = rx * nx[q] + ry * ny[q] + rz * nz[q];
+      const double a = -6.0 * rq * rn * ir3 * ir * ir;
+      s0 += a * rx;
+      s1 += a * ry;
+      s2 += a * rz;
+    } else {
+      const double rn = rx * nx[q] + ry * ny[q] + rz * nz[q];
+      const double a = -6.0 * rn * ir3 * ir * ir;
+      s0 += a * rx * rx;
+      s1 += a * ry * rx;
+      s2 += a * rz * rx;
+      s3 += a * rx * ry;
+      s4 += a * ry * ry;
+      s5 += a * rz * ry;
+      s6 += a * rx * rz;
+      s7 += a * ry * rz;
+      s8 += a * rz * rz;
+    }
+  }
+  acc[0] += s0;
+  acc[1] += s1;
+  acc[2] += s2;
+  if constexpr (M == Mode::DoubleNormal) {
+    acc[3] += s3;
+    acc[4] += s4;
+    acc[5] += s5;
+    acc[6] += s6;
+    acc[7] += s7;
+    acc[8] += s8;
+  }
+}
+}  // namespace
 
 template <BoundaryOperators::Mode M>
 void BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens,
@@ -540,61 +849,46 @@ void BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens,
   constexpr int K = uses_density(M) ? 6 : 3;
 
   // ---- far-field data at Gauss points (per call: depends on the geometry) ----
-  const int nq = opt_.nq_far;
-  const spectral::Rule gq = spectral::gauss_legendre(nq);
-  const MatrixXd I = spectral::interpolation_matrix(mesh.nodes(), gq.x);
-  const MatrixXd Id = spectral::derivative_matrix(mesh.nodes(), gq.x);
-  const int nqe = nq * nq;
-  RowMat F(10, ne * nqe);
+  // Two orders: nq_far for elements at distance >= mid_factor * size, nq_mid between
+  // near_factor * size and that.
+  // Single layer with interpolate_jf: the special rules interpolate g = J f from its nodal
+  // values (J = |x_xi x x_eta| at the nodes from the differentiation matrix).
+  const bool jf = M == Mode::Single && opt_.interpolate_jf;
+  Matrix3Xd g;
+  if (jf) {
+    g.resize(3, nloc);
+    const MatrixXd& D = mesh.diff();
+    for (int e = 0; e < ne; ++e)
+      for (int j = 0; j < nb; ++j)
+        for (int i = 0; i < nb; ++i) {
+          Vector3d xs = Vector3d::Zero(), xt = Vector3d::Zero();
+          for (int k = 0; k < nb; ++k) {
+            xs += D(i, k) * x.col(e * nb2 + j * nb + k);
+            xt += D(j, k) * x.col(e * nb2 + k * nb + i);
+          }
+          const int m = e * nb2 + j * nb + i;
+          g.col(m) = xs.cross(xt).norm() * (*dens).col(m);
+        }
+  }
+  const Matrix3Xd* sdens = jf ? &g : dens;
   std::vector<Vector3d> centre(ne);
   std::vector<double> radius(ne), esize(ne);
-  {
-    MatrixXd X(nb, nb), Q(nq, nq);
-    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic> xq[3], xsq[3], xtq[3], dq[3];
-    for (int e = 0; e < ne; ++e) {
-      for (int k = 0; k < 3; ++k) {
-        for (int j = 0; j < nb; ++j)
-          for (int i = 0; i < nb; ++i) X(i, j) = x(k, e * nb2 + j * nb + i);
-        xq[k] = I * X * I.transpose();
-        xsq[k] = Id * X * I.transpose();
-        xtq[k] = I * X * Id.transpose();
-        if (uses_density(M)) {
-          for (int j = 0; j < nb; ++j)
-            for (int i = 0; i < nb; ++i) X(i, j) = (*dens)(k, e * nb2 + j * nb + i);
-          dq[k] = I * X * I.transpose();
-        }
-      }
-      double area = 0;
-      for (int b = 0; b < nq; ++b)
-        for (int a = 0; a < nq; ++a) {
-          const int q = e * nqe + b * nq + a;
-          const Vector3d xs(xsq[0](a, b), xsq[1](a, b), xsq[2](a, b));
-          const Vector3d xt(xtq[0](a, b), xtq[1](a, b), xtq[2](a, b));
-          const Vector3d c = xs.cross(xt);
-          const double w = gq.w[a] * gq.w[b];
-          const double wj = w * c.norm();
-          area += wj;
-          for (int k = 0; k < 3; ++k) {
-            F(k, q) = xq[k](a, b);
-            F(6 + k, q) = w * c[k];
-            if (uses_density(M)) F(3 + k, q) = dq[k](a, b);
-            else F(3 + k, q) = 0.0;
-          }
-          F(9, q) = wj;
-        }
-      esize[e] = std::sqrt(area);
-      Vector3d cen = x.middleCols(e * nb2, nb2).rowwise().mean();
-      double rad = 0;
-      for (int k = 0; k < nb2; ++k) rad = std::max(rad, (x.col(e * nb2 + k) - cen).norm());
-      centre[e] = cen;
-      radius[e] = rad;
-    }
+  FarData far[2];
+  far_data<M>(mesh, x, dens, opt_.nq_far, far[0], &esize);
+  far_data<M>(mesh, x, dens, opt_.nq_mid, far[1], nullptr);
+  for (int e = 0; e < ne; ++e) {
+    Vector3d cen = x.middleCols(e * nb2, nb2).rowwise().mean();
+    double rad = 0;
+    for (int k = 0; k < nb2; ++k) rad = std::max(rad, (x.col(e * nb2 + k) - cen).norm());
+    centre[e] = cen;
+    radius[e] = rad;
   }
 
   const spectral::Rule gen = spectral::gauss_legendre(opt_.n_edge_near);
   const spectral::Rule grn = spectral::gauss_legendre(opt_.n_radial_near);
+  const spectral::Rule grn_out = spectral::gauss_legendre(opt_.n_radial_near_out);
   // near rule: 4 edges x n_radial_near x panels (asinh(1/hu) <= asinh(1e14) < 6 * 6) lines
-  const int max_near_lines = 4 * opt_.n_radial_near * 6;
+  const int max_near_lines = 4 * (opt_.n_radial_near * 6 + opt_.n_radial_near_out);
   int max_lines = max_near_lines, max_line = 2 * opt_.n_edge_near;
   for (const Rule& r : rules_) {
     max_lines = std::max(max_lines, r.nl());
@@ -609,13 +903,10 @@ void BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens,
     sc.D1.resize(nb, 6 * nb);
     sc.A.resize(max_lines, 6 * nb);
     sc.B.resize(max_lines, 3 * nb);
-    sc.v.resize(12 * static_cast<size_t>(max_line));
+    sc.v.resize(12 * static_cast<size_t>(max_line + 4));
     sc.near.Lc.resize(nb, max_near_lines);
     sc.near.dLc.resize(nb, max_near_lines);
     std::vector<char> own(ne);
-    const double* Fx = F.row(0).data();
-    const double* Fy = F.row(1).data();
-    const double* Fz = F.row(2).data();
 
 #pragma omp for schedule(dynamic, 1)
     for (int k = 0; k < ntar; ++k) {
@@ -634,8 +925,11 @@ void BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens,
           const int sym = canon_sym_[loc];
           const double sign = ((sym & 1) ? -1.0 : 1.0) * ((sym & 2) ? -1.0 : 1.0) *
                               ((sym & 4) ? -1.0 : 1.0);
-          load_element(nb, K, x, dens, e * nb2, canon_perm_[sym].data(), sc);
-          line_sum<M>(nb, K, r, sign, x0, u0, sc, acc);
+          load_element(nb, K, x, sdens, e * nb2, canon_perm_[sym].data(), sc);
+          if (jf)
+            line_sum_jf(nb, r, sign, x0, sc, acc);
+          else
+            line_sum<M>(nb, K, r, sign, x0, u0, sc, acc);
           own_pairs += r.np();
         }
       } else {
@@ -644,12 +938,15 @@ void BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens,
       for (int e = 0; e < ne; ++e) {
         if (own[e]) continue;
         bool near = false;
+        int tier = 0;  // far order: 0 nq_far, 1 nq_mid
         double s = 0, t = 0, h = 0;
         Vector3d xs, xt;
         const double crit = opt_.near_factor * esize[e];
-        if ((x0 - centre[e]).norm() - radius[e] < crit) {
+        const double crit_mid = opt_.mid_factor * esize[e];
+        if ((x0 - centre[e]).norm() - radius[e] < crit_mid) {
           nearest_point(mesh, x, e, x0, s, t, h, xs, xt);
           near = h < crit;
+          tier = h < crit_mid ? 1 : 0;
         }
         if (near) {
           ++near_elements;
@@ -667,18 +964,19 @@ void BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens,
             hu[ei] = h / jv;
             if (hu[ei] < 1e-13) hu[ei] = 0.0;
           }
-          polar_rule(s, t, hu, gen, grn, sc.near);
+          const RadialOpt ro{&grn, &grn_out, opt_.near_split};
+          polar_rule(s, t, hu, gen, grn, sc.near, ro);
           fill_bases(mesh, sc.near);
-          load_element(nb, K, x, dens, e * nb2, nullptr, sc);
-          line_sum<M>(nb, K, sc.near, 1.0, x0, u0, sc, acc);
+          load_element(nb, K, x, sdens, e * nb2, nullptr, sc);
+          if (jf)
+            line_sum_jf(nb, sc.near, 1.0, x0, sc, acc);
+          else
+            line_sum<M>(nb, K, sc.near, 1.0, x0, u0, sc, acc);
           near_pairs += sc.near.np();
         } else {
-          const int q0 = e * nqe, q1 = q0 + nqe;
-          for (int q = q0; q < q1; ++q) {
-            const double dd[3] = {F(3, q), F(4, q), F(5, q)};
-            const double nw[3] = {F(6, q), F(7, q), F(8, q)};
-            kernel<M>(x0, u0, Fx[q], Fy[q], Fz[q], dd, nw, F(9, q), acc);
-          }
+          const FarData& fd = far[tier];
+          const int nqe = fd.nq * fd.nq;
+          far_sum<M>(fd, e * nqe, (e + 1) * nqe, x0, u0, acc);
           far_pairs += nqe;
         }
       }

@@ -53,8 +53,13 @@ struct QuadratureOptions {
   int n_radial = 0;       // own element: points along each ray; 0 -> nb + 2
   int n_edge_near = 0;    // near elements: along the edge; 0 -> nb + 2
   int n_radial_near = 0;  // near elements: along each ray; 0 -> 2 nb - 4
-  double near_factor = 0.5;  // near when dist(x0, E) < near_factor * sqrt(area(E))
+  double near_factor = 0.2;  // near when dist(x0, E) < near_factor * sqrt(area(E))
   double own_tolerance = 0.0;  // placeholder
+  double mid_factor = 0.5;
+  int nq_mid = 0;
+  double near_split = 0.3;
+  int n_radial_near_out = 0;
+  bool interpolate_jf = false;
 };
 
 // Counts of the last call (kernel evaluations = source points x targets).
