@@ -1,5 +1,8 @@
 #include "app/simulation.h"
 
+#include "app/figure_data.h"
+#include "output/vtk.h"
+
 #include <omp.h>
 #include <unistd.h>
 
@@ -81,7 +84,8 @@ struct Simulation::Impl {
   std::unique_ptr<capsule::HealthMonitor> health;
   std::unique_ptr<control::CaScheduler> schedule;
   std::unique_ptr<render::RenderThread> renderer;
-  long frames = 0, rows = 0, steady_rows = 0, resumes = 0;
+  std::unique_ptr<output::PvdCollection> pvd;
+  long frames = 0, rows = 0, steady_rows = 0, resumes = 0, vtk_index = 0;
   bool checkpoint_now_seen = false;
   std::chrono::steady_clock::time_point start;
   double wall_offset = 0;  // wall seconds of earlier sessions of this run
@@ -237,6 +241,16 @@ struct Simulation::Impl {
     }
   }
 
+  // ParaView surface (node grid, tensions) + the .pvd collection entry.
+  void write_vtk(const Measures& m, double ca) {
+    if (!pvd) pvd = std::make_unique<output::PvdCollection>((dir / figures::kSurfaceCollection).string());
+    fs::create_directories(dir / "vtk");
+    output::VtkSurface v = figures::vtk_from_snapshot(snapshot(m, ca));
+    const std::string name = figures::surface_file_name(vtk_index++);
+    output::write_vtp((dir / name).string(), v);
+    pvd->add(cap->time(), name);
+  }
+
   void write_row(const Measures& m, double ca) {
     const auto& d = m.shape;
     char buf[640];
@@ -277,6 +291,7 @@ struct Simulation::Impl {
     c.put("health_normals", std::vector<double>(n.data(), n.data() + n.size()));
     c.put("health_flags", health->flags());
     c.put_int("frames", frames);
+    c.put_int("vtk_index", vtk_index);
     c.put_int("rows", rows);
     c.put_int("steady_rows", steady_rows);
     c.put_int("resumes", resumes);
@@ -399,6 +414,11 @@ std::unique_ptr<Simulation> Simulation::resume(const std::string& run_dir, const
   const auto& nrm = c.doubles("health_normals", 3 * n);
   s.health->restore(Eigen::Map<const Eigen::Matrix3Xd>(nrm.data(), 3, n), c.doubles("health_flags", 3));
   s.frames = c.integer("frames");
+  s.vtk_index = c.integer("vtk_index");
+  if (fs::exists(dir / figures::kSurfaceCollection)) {
+    s.pvd = std::make_unique<output::PvdCollection>((dir / figures::kSurfaceCollection).string());
+    s.pvd->truncate_after(c.scalar("t"));
+  }
   s.rows = c.integer("rows");
   s.steady_rows = c.integer("steady_rows");
   s.resumes = c.integer("resumes") + 1;
@@ -447,11 +467,13 @@ RunSummary Simulation::run(const std::atomic<bool>* stop) {
   if (fresh) {
     s.write_row(m, s.schedule->ca(0.0));
     if (s.opt.output.frame_every > 0) s.submit_frame(m, s.schedule->ca(0.0));
+    if (s.opt.output.vtk_every > 0) s.write_vtk(m, s.schedule->ca(0.0));
   }
   double t = s.cap->time();
   double next_csv = next_after(t, s.opt.output.csv_every);
   double next_frame = next_after(t, s.opt.output.frame_every);
   double next_ckpt = next_after(t, s.opt.output.checkpoint_every);
+  double next_vtk = next_after(t, s.opt.output.vtk_every);
   double next_sample = t;
   double last_status = -1;
   const long steps_at_start = s.cap->step_count();
@@ -464,6 +486,7 @@ RunSummary Simulation::run(const std::atomic<bool>* stop) {
     if (o.output.csv_every != before.csv_every) next_csv = next_after(t, o.output.csv_every);
     if (o.output.frame_every != before.frame_every) next_frame = next_after(t, o.output.frame_every);
     if (o.output.checkpoint_every != before.checkpoint_every) next_ckpt = next_after(t, o.output.checkpoint_every);
+    if (o.output.vtk_every != before.vtk_every) next_vtk = next_after(t, o.output.vtk_every);
     if (o.run.checkpoint_now && !s.checkpoint_now_seen) s.write_checkpoint("run.checkpoint_now");
     s.checkpoint_now_seen = o.run.checkpoint_now;
     if (stop && stop->load()) {
@@ -519,7 +542,8 @@ RunSummary Simulation::run(const std::atomic<bool>* stop) {
     t = s.cap->time();
     const double eps = 1e-9 * dt;
     const bool frame = t >= next_frame - eps;
-    const bool csv = t >= next_csv - eps || frame;
+    const bool vtk = t >= next_vtk - eps;
+    const bool csv = t >= next_csv - eps || frame || vtk;
     const bool sample = t >= next_sample - eps;
     if (csv || sample) {
       m = s.measure(csv);
@@ -541,6 +565,10 @@ RunSummary Simulation::run(const std::atomic<bool>* stop) {
       if (frame) {
         s.submit_frame(m, s.schedule->ca(t));
         next_frame = next_after(t, o.output.frame_every);
+      }
+      if (vtk) {
+        s.write_vtk(m, s.schedule->ca(t));
+        next_vtk = next_after(t, o.output.vtk_every);
       }
       if (csv) {
         if (t >= next_csv - eps) {

@@ -421,6 +421,7 @@ ParsedControl parse_control(const std::string& text, const std::string& source) 
     }
     r.number("checkpoint_every", &o.output.checkpoint_every, closed(0.0, 1e6),
              "the checkpoint cadence (0: only at the end)");
+    r.number("vtk_every", &o.output.vtk_every, closed(0.0, 1e6), "the ParaView output cadence (0: none)");
     r.finish();
   }
   {
@@ -546,7 +547,8 @@ std::string to_json_text(const ControlOptions& o) {
                  {"mp4", o.output.mp4.enabled ? json{{"fps", o.output.mp4.fps},
                                                      {"quality", o.output.mp4.quality}}
                                               : json(false)},
-                 {"checkpoint_every", o.output.checkpoint_every}};
+                 {"checkpoint_every", o.output.checkpoint_every},
+                 {"vtk_every", o.output.vtk_every}};
   j["numerics"] = {{"smoothing", o.numerics.smoothing},
                    {"volume_correction", o.numerics.volume_correction},
                    {"symmetry", o.numerics.symmetry},

@@ -72,6 +72,8 @@ EditResult apply_edit(const ControlOptions& current, const ControlOptions& edite
       r.merged.output.frame_every = edited.output.frame_every;
     } else if (p == "output.checkpoint_every") {
       r.merged.output.checkpoint_every = edited.output.checkpoint_every;
+    } else if (p == "output.vtk_every") {
+      r.merged.output.vtk_every = edited.output.vtk_every;
     } else if (p == "numerics.volume_correction") {
       r.merged.numerics.volume_correction = edited.numerics.volume_correction;
     } else if (p == "numerics.threads") {

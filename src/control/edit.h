@@ -6,7 +6,7 @@
 //   numerics.smoothing, output.dir, output.png, output.mp4.*, render.*
 // Everything else applies at the next step boundary: ca (the new schedule starts from the
 // current Ca at the current time), steady.*, time.dt, time.t_end, output.csv_every,
-// output.frame_every, output.checkpoint_every, numerics.volume_correction, numerics.threads,
+// output.frame_every, output.checkpoint_every, output.vtk_every, numerics.volume_correction, numerics.threads,
 // run.state, run.checkpoint_now.
 // An edit that does not parse or validate is refused as a whole (the run keeps its settings).
 #pragma once

@@ -70,6 +70,8 @@ struct OutputOptions {
   bool png = true;                   // "output.png": write frames/frame_NNNNNN.png
   Mp4Options mp4;                    // "output.mp4"
   double checkpoint_every = 0.0;     // "output.checkpoint_every": 0 = only at the end
+  double vtk_every = 0.0;            // "output.vtk_every": ParaView surface_NNNNNN.vtp + surface.pvd
+                                     // cadence (simulated time), 0 = none
 };
 
 struct NumericsOptions {
