@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 
@@ -130,7 +131,7 @@ void polar_rule(double s0, double t0, const double* hu, const spectral::Rule& ge
 
 // Lagrange basis l_j(t) and l_j'(t) through the Gauss-Lobatto nodes (barycentric form).
 // Far from the nodes the derivative uses l_j' = l_j (sum_k l_k/(t - x_k) - 1/(t - x_j))
-// (relative error ~ eps / min |t - x_k|); within 1e-2 of a node it uses l' = D^T l (D the
+// (relative error ~ eps / min |t - x_k|); within 2e-3 of a node it uses l' = D^T l (D the
 // differentiation matrix, exact for the degree nb-2 derivative).
 void basis(const geometry::Mesh& mesh, double t, double* l, double* dl) {
   const int n = mesh.nb();
@@ -155,7 +156,7 @@ void basis(const geometry::Mesh& mesh, double t, double* l, double* dl) {
     l[j] *= iS;
     T += l[j] * inv[j];
   }
-  if (nearest >= 1e-2) {
+  if (nearest >= 2e-3) {
     for (int j = 0; j < n; ++j) dl[j] = l[j] * (T - inv[j]);
   } else {
     const MatrixXd& D = mesh.diff();  // D(m, k) = l_k'(x_m)
@@ -181,12 +182,58 @@ void fill_bases(const geometry::Mesh& mesh, LineRule& R) {
     R.LoT.resize(np, nb);
     R.dLoT.resize(np, nb);
   }
+  // Point bases, vectorised over the points (column j of LoT is contiguous): barycentric form
+  // with the closed-form derivative; points within 2e-3 of a node are redone by basis().
   const long ld = R.LoT.rows();
-  double l[kMaxNb], dl[kMaxNb];
-  double* L = R.LoT.data();
-  double* dL = R.dLoT.data();
+  double* __restrict L = R.LoT.data();
+  double* __restrict dL = R.dLoT.data();
+  thread_local std::vector<double> tmp;
+  if (tmp.size() < 3 * static_cast<size_t>(np)) tmp.resize(3 * static_cast<size_t>(np));
+  double* __restrict S = tmp.data();
+  double* __restrict T = S + np;
+  double* __restrict mind = S + 2 * np;
+  const double* __restrict o = R.o.data();
+  const double* xn = mesh.nodes().data();
+  const double* bw = mesh.bary().data();
   for (int p = 0; p < np; ++p) {
-    basis(mesh, R.o[p], l, dl);
+    S[p] = 0.0;
+    T[p] = 0.0;
+    mind[p] = 2.0;
+  }
+  for (int j = 0; j < nb; ++j) {
+    double* __restrict Lj = L + ld * j;
+    double* __restrict dLj = dL + ld * j;
+    const double xj = xn[j], bj = bw[j];
+#pragma omp simd
+    for (int p = 0; p < np; ++p) {
+      const double d = o[p] - xj;
+      const double inv = 1.0 / d;
+      mind[p] = std::min(mind[p], std::abs(d));
+      dLj[p] = inv;
+      Lj[p] = bj * inv;
+      S[p] += Lj[p];
+    }
+  }
+  for (int p = 0; p < np; ++p) S[p] = 1.0 / S[p];
+  for (int j = 0; j < nb; ++j) {
+    double* __restrict Lj = L + ld * j;
+    const double* __restrict dLj = dL + ld * j;
+#pragma omp simd
+    for (int p = 0; p < np; ++p) {
+      Lj[p] *= S[p];
+      T[p] += Lj[p] * dLj[p];
+    }
+  }
+  for (int j = 0; j < nb; ++j) {
+    const double* __restrict Lj = L + ld * j;
+    double* __restrict dLj = dL + ld * j;
+#pragma omp simd
+    for (int p = 0; p < np; ++p) dLj[p] = Lj[p] * (T[p] - dLj[p]);
+  }
+  double l[kMaxNb], dl[kMaxNb];
+  for (int p = 0; p < np; ++p) {
+    if (mind[p] >= 2e-3) continue;
+    basis(mesh, o[p], l, dl);
     for (int j = 0; j < nb; ++j) {
       L[p + ld * j] = l[j];
       dL[p + ld * j] = dl[j];
@@ -395,7 +442,8 @@ void line_sum(int nb, int K, const LineRule& R, double sign, const Vector3d& x0,
     double* __restrict O0 = X0 + 9 * ms;
     double* __restrict O1 = X0 + 10 * ms;
     double* __restrict O2 = X0 + 11 * ms;
-    for (int p = 0; p < 12 * ms; ++p) X0[p] = 0.0;
+    for (int p = 0; p < 9 * ms; ++p) X0[p] = 0.0;  // x, f (if K == 6), d/d(across)
+    for (int p = 9 * ms; p < 12 * ms; ++p) X0[p] = 0.0;
     for (int j = 0; j < nb; ++j) {
       const double* __restrict lo = R.LoT.data() + static_cast<long>(j) * ld + p0;
       const double* __restrict dlo = R.dLoT.data() + static_cast<long>(j) * ld + p0;
@@ -614,7 +662,8 @@ BoundaryOperators::BoundaryOperators(const geometry::Mesh& mesh, QuadratureOptio
     Matrix3Xd x, f;
   };
   std::vector<Probe> probes;
-  std::vector<int> probe_elems = {0, mesh.ne() / 2, mesh.ne() - 1};
+  std::vector<int> probe_elems;
+  for (int e = 0; e < mesh.ne(); ++e) probe_elems.push_back(e);
   Scratch sc;
   if (opt_.own_tolerance > 0.0) {
     for (int g = 0; g < 2; ++g) {
@@ -649,16 +698,35 @@ BoundaryOperators::BoundaryOperators(const geometry::Mesh& mesh, QuadratureOptio
         load_element(nb, 6, pr.x, &pr.f, e * nb * nb, nullptr, sc);
         line_sum<Mode::Single>(nb, 6, r, 1.0, x0, Vector3d::Zero(), sc, acc);
         v.insert(v.end(), acc, acc + 3);
+        double acc2[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+        line_sum<Mode::DoubleNormal>(nb, 3, r, 1.0, x0, Vector3d::Zero(), sc, acc2);
+        v.insert(v.end(), acc2, acc2 + 9);
       }
     return v;
   };
   std::vector<std::pair<int, int>> cands;  // (n_e, n_r), by n_e * n_r
   for (int n_r = std::max(2, nb - 2); n_r <= nb + 8; ++n_r)
-    for (int n_e = 4; n_e <= 2 * nb + 4; n_e += 2) cands.emplace_back(n_e, n_r);
+    for (int n_e : {6, 8, 10, 12, 14, 16, 20, 24, 2 * nb + 4})
+      if (n_e <= 2 * nb + 4 && (cands.empty() || cands.back() != std::make_pair(n_e, n_r)))
+        cands.emplace_back(n_e, n_r);
   std::stable_sort(cands.begin(), cands.end(), [](const auto& a, const auto& b) {
     return a.first * a.second < b.first * b.second;
   });
 
+  // The selection depends only on the mesh type and the options: cache it process-wide.
+  static std::mutex cache_mutex;
+  static std::map<std::string, std::map<int, std::pair<int, int>>> cache;
+  const std::string cache_key =
+      std::to_string(mesh.ne()) + "/" + std::to_string(nb) + "/" +
+      std::to_string(static_cast<int>(mesh.map())) + "/" + std::to_string(opt_.own_tolerance) +
+      "/" + std::to_string(opt_.n_edge) + "/" + std::to_string(opt_.n_radial);
+  std::map<int, std::pair<int, int>> chosen;
+  if (opt_.own_tolerance > 0.0) {
+    std::lock_guard<std::mutex> lock(cache_mutex);
+    auto it = cache.find(cache_key);
+    if (it != cache.end()) chosen = it->second;
+  }
+  const bool cached = !chosen.empty();
   std::map<int, int> key_to_rule;
   for (int j = 0; j < nb; ++j)
     for (int i = 0; i < nb; ++i) {
@@ -670,7 +738,10 @@ BoundaryOperators::BoundaryOperators(const geometry::Mesh& mesh, QuadratureOptio
       auto it = key_to_rule.find(key);
       if (it == key_to_rule.end()) {
         Rule r;
-        if (opt_.own_tolerance > 0.0) {
+        if (cached) {
+          const auto& c = chosen.at(key);
+          r = make_rule(ic, jc, c.first, c.second);
+        } else if (opt_.own_tolerance > 0.0) {
           const std::vector<double> ref = own_values(make_rule(ic, jc, 3 * nb, 2 * nb + 4), ic, jc);
           double scale = 0;
           for (double v : ref) scale = std::max(scale, std::abs(v));
@@ -682,11 +753,15 @@ BoundaryOperators::BoundaryOperators(const geometry::Mesh& mesh, QuadratureOptio
             for (size_t q = 0; q < v.size(); ++q) err = std::max(err, std::abs(v[q] - ref[q]));
             if (err <= opt_.own_tolerance * scale) {
               r = std::move(trial);
+              chosen[key] = c;
               found = true;
               break;
             }
           }
-          if (!found) r = make_rule(ic, jc, opt_.n_edge, opt_.n_radial);
+          if (!found) {
+            r = make_rule(ic, jc, opt_.n_edge, opt_.n_radial);
+            chosen[key] = {opt_.n_edge, opt_.n_radial};
+          }
         } else {
           r = make_rule(ic, jc, opt_.n_edge, opt_.n_radial);
         }
@@ -696,6 +771,10 @@ BoundaryOperators::BoundaryOperators(const geometry::Mesh& mesh, QuadratureOptio
       canon_rule_[i + nb * j] = it->second;
       canon_sym_[i + nb * j] = (fi ? 1 : 0) | (fj ? 2 : 0) | (sw ? 4 : 0);
     }
+  if (opt_.own_tolerance > 0.0 && !cached) {
+    std::lock_guard<std::mutex> lock(cache_mutex);
+    cache.emplace(cache_key, chosen);
+  }
 }
 
 long BoundaryOperators::own_rule_points() const {

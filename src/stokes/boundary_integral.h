@@ -54,7 +54,7 @@ struct QuadratureOptions {
   int n_edge_near = 0;    // near elements: along the edge; 0 -> nb + 2
   int n_radial_near = 0;  // near elements: along each ray; 0 -> 2 nb - 4
   double near_factor = 0.2;  // near when dist(x0, E) < near_factor * sqrt(area(E))
-  double own_tolerance = 0.0;  // placeholder
+  double own_tolerance = 0.0;
   double mid_factor = 0.5;
   int nq_mid = 0;
   double near_split = 0.3;
