@@ -2,6 +2,7 @@
 // or alternatives; valid files round-trip through the effective control file.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <string>
 
 #include "control/control_file.h"
@@ -206,4 +207,16 @@ TEST(ControlFile, UnreadableFile) {
   } catch (const ControlError& e) {
     expect_contains(e.what(), "cannot open");
   }
+}
+
+TEST(ControlFile, EveryShippedExampleIsValid) {
+  int n = 0;
+  for (const char* sub : {"examples", "validation"}) {
+    for (const auto& e : std::filesystem::directory_iterator(std::string(CAPFLOW_SOURCE_DIR) + "/" + sub)) {
+      if (e.path().extension() != ".json") continue;
+      EXPECT_NO_THROW(load_control_file(e.path().string())) << e.path();
+      ++n;
+    }
+  }
+  EXPECT_GE(n, 6);
 }
