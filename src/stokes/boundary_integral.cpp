@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <map>
 #include <mutex>
 #include <stdexcept>
@@ -170,17 +171,19 @@ void basis(const geometry::Mesh& mesh, double t, double* l, double* dl) {
 }
 
 // Bases of a line rule (Lc, dLc at the line coordinates; LoT, dLoT at the points). The
-// matrices are resized only when they are too small (scratch reuse).
-void fill_bases(const geometry::Mesh& mesh, LineRule& R) {
+// matrices are resized only when they are too small (scratch reuse). Cloned like single_line.
+__attribute__((target_clones("arch=x86-64-v3", "default"))) void fill_bases(const geometry::Mesh& mesh, LineRule& R) {
   const int nb = mesh.nb(), nl = R.nl(), np = R.np();
   if (R.Lc.cols() < nl) {
     R.Lc.resize(nb, nl);
     R.dLc.resize(nb, nl);
   }
   for (int l = 0; l < nl; ++l) basis(mesh, R.c[l], R.Lc.col(l).data(), R.dLc.col(l).data());
-  if (R.LoT.rows() < np) {  // leading dimension = rows (may exceed np)
-    R.LoT.resize(np, nb);
-    R.dLoT.resize(np, nb);
+  if (R.LoT.rows() < np + 4) {  // leading dimension = rows >= np + 4 (blocks of 4 points)
+    R.LoT.resize(np + 4, nb);
+    R.dLoT.resize(np + 4, nb);
+    R.LoT.bottomRows(4).setZero();
+    R.dLoT.bottomRows(4).setZero();
   }
   // Point bases, vectorised over the points (column j of LoT is contiguous): barycentric form
   // with the closed-form derivative; points within 2e-3 of a node are redone by basis().
@@ -398,6 +401,71 @@ void load_element(int nb, int K, const Matrix3Xd& x, const Matrix3Xd* dens, int 
     }
 }
 
+// Single layer, one line of a line rule: stage 2 (values along the line from the stage-1 rows
+// A (x, f: 6 nb) and B (d/d(across) x: 3 nb)) and the kernel sum, added to out[0..2].
+// L, dL: bases at the line's points (column j at L + j ld); buf: 12 (m + 3) doubles.
+// Compiled twice (x86-64-v3 with AVX2/FMA and the default), chosen at load time.
+typedef double v4d __attribute__((vector_size(32)));
+
+__attribute__((target_clones("arch=x86-64-v3", "default"))) void single_line(
+    int nb, int m, const double* A, const double* B, const double* L, const double* dL, long ld,
+    const double* w, double sg, const double* x0, double* buf, double* out) {
+  // Blocks of 4 points with the 12 interpolated values in registers (GCC vector extension);
+  // the bases of the last block may run past the line (ld >= np + 4, see fill_bases); those
+  // points get weight 0.
+  (void)buf;
+  (void)sg;  // |n| does not depend on the orientation
+  const v4d x00 = {x0[0], x0[0], x0[0], x0[0]}, x01 = {x0[1], x0[1], x0[1], x0[1]},
+            x02 = {x0[2], x0[2], x0[2], x0[2]};
+  v4d s0 = {0, 0, 0, 0}, s1 = s0, s2 = s0;
+  for (int p0 = 0; p0 < m; p0 += 4) {
+    v4d X0 = {0, 0, 0, 0}, X1 = X0, X2 = X0, F0 = X0, F1 = X0, F2 = X0;
+    v4d A0 = X0, A1 = X0, A2 = X0, O0 = X0, O1 = X0, O2 = X0;
+    for (int j = 0; j < nb; ++j) {
+      v4d lo, dlo;
+      std::memcpy(&lo, L + j * ld + p0, sizeof lo);
+      std::memcpy(&dlo, dL + j * ld + p0, sizeof dlo);
+      X0 += A[j] * lo;
+      X1 += A[nb + j] * lo;
+      X2 += A[2 * nb + j] * lo;
+      F0 += A[3 * nb + j] * lo;
+      F1 += A[4 * nb + j] * lo;
+      F2 += A[5 * nb + j] * lo;
+      A0 += B[j] * lo;
+      A1 += B[nb + j] * lo;
+      A2 += B[2 * nb + j] * lo;
+      O0 += A[j] * dlo;
+      O1 += A[nb + j] * dlo;
+      O2 += A[2 * nb + j] * dlo;
+    }
+    v4d wq, pad;
+    for (int q = 0; q < 4; ++q) {
+      const bool in = p0 + q < m;
+      wq[q] = in ? w[p0 + q] : 0.0;
+      pad[q] = in ? 0.0 : 1.0;
+    }
+    const v4d nx = A1 * O2 - A2 * O1;
+    const v4d ny = A2 * O0 - A0 * O2;
+    const v4d nz = A0 * O1 - A1 * O0;
+    const v4d rx = X0 - x00, ry = X1 - x01, rz = X2 - x02;
+    const v4d r2 = rx * rx + ry * ry + rz * rz + pad;
+    const v4d n2 = nx * nx + ny * ny + nz * nz;
+    v4d ir, nn;
+    for (int q = 0; q < 4; ++q) {
+      ir[q] = 1.0 / std::sqrt(r2[q]);
+      nn[q] = std::sqrt(n2[q]);
+    }
+    const v4d aa = wq * nn * ir;
+    const v4d bb = aa * ir * ir * (rx * F0 + ry * F1 + rz * F2);
+    s0 += aa * F0 + bb * rx;
+    s1 += aa * F1 + bb * ry;
+    s2 += aa * F2 + bb * rz;
+  }
+  out[0] += (s0[0] + s0[1]) + (s0[2] + s0[3]);
+  out[1] += (s1[0] + s1[1]) + (s1[2] + s1[3]);
+  out[2] += (s2[0] + s2[1]) + (s2[2] + s2[3]);
+}
+
 // Sum the kernel over the points of one line rule; the element data are in sc.D0/D1 (in the
 // rule's orientation); sign: orientation of the rule's (s, t) relative to the element's.
 // Stage 1: for every line, the 1-D interpolation across the lines (dense products
@@ -423,6 +491,16 @@ void line_sum(int nb, int K, const LineRule& R, double sign, const Vector3d& x0,
         R.dLc.middleCols(n0, n1).transpose() * sc.D1.leftCols(n3);
   }
   const int ld = static_cast<int>(R.LoT.rows());
+  if constexpr (M == Mode::Single) {
+    for (int l = 0; l < nl; ++l) {
+      const int p0 = R.start[l], m = R.start[l + 1] - p0;
+      if (m == 0) continue;
+      single_line(nb, m, sc.A.row(l).data(), sc.B.row(l).data(), R.LoT.data() + p0,
+                  R.dLoT.data() + p0, ld, R.w.data() + p0, l < n0 ? sign : -sign, x0.data(),
+                  sc.v.data(), acc);
+    }
+    return;
+  }
   for (int l = 0; l < nl; ++l) {
     const int p0 = R.start[l], m = R.start[l + 1] - p0;
     if (m == 0) continue;
@@ -836,11 +914,37 @@ void far_data(const geometry::Mesh& mesh, const Matrix3Xd& x, const Matrix3Xd* d
   }
 }
 
+// Single-layer kernel sum over far points [q0, q1) (rows of F.d); cloned like single_line.
+__attribute__((target_clones("arch=x86-64-v3", "default"))) void far_single(
+    const double* px, const double* py, const double* pz, const double* fx, const double* fy,
+    const double* fz, const double* wj, int q0, int q1, const double* x0, double* acc) {
+  const double X0 = x0[0], X1 = x0[1], X2 = x0[2];
+  double s0 = 0, s1 = 0, s2 = 0;
+#pragma omp simd reduction(+ : s0, s1, s2)
+  for (int q = q0; q < q1; ++q) {
+    const double rx = px[q] - X0, ry = py[q] - X1, rz = pz[q] - X2;
+    const double ir = 1.0 / std::sqrt(rx * rx + ry * ry + rz * rz);
+    const double rd = rx * fx[q] + ry * fy[q] + rz * fz[q];
+    const double a = wj[q] * ir, b = a * ir * ir * rd;
+    s0 += a * fx[q] + b * rx;
+    s1 += a * fy[q] + b * ry;
+    s2 += a * fz[q] + b * rz;
+  }
+  acc[0] += s0;
+  acc[1] += s1;
+  acc[2] += s2;
+}
+
 // Kernel sum over the far points [q0, q1) of F.
 template <BoundaryOperators::Mode M>
 void far_sum(const FarData& F, int q0, int q1, const Vector3d& x0, const Vector3d& u0,
              double* acc) {
   using Mode = BoundaryOperators::Mode;
+  if constexpr (M == Mode::Single) {
+    far_single(F.d.row(0).data(), F.d.row(1).data(), F.d.row(2).data(), F.d.row(3).data(),
+               F.d.row(4).data(), F.d.row(5).data(), F.d.row(9).data(), q0, q1, x0.data(), acc);
+    return;
+  }
   const double* __restrict px = F.d.row(0).data();
   const double* __restrict py = F.d.row(1).data();
   const double* __restrict pz = F.d.row(2).data();
