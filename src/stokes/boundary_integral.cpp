@@ -376,7 +376,7 @@ constexpr bool uses_density(BoundaryOperators::Mode m) {
 }
 
 struct Scratch {
-  MatrixXd D0, D1;  // element data, nb x (K nb): D0(i, k nb + j) = D1(j, k nb + i) = X_k(i, j)
+  RowMat D0, D1;  // element data, nb x (K nb): D0(i, k nb + j) = D1(j, k nb + i) = X_k(i, j)
   RowMat A, B;      // stage 1: values / derivative across, per line
   std::vector<double> v;  // stage 2 per line: 12 arrays of the line's length
   LineRule near;
@@ -466,6 +466,35 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void single_line(
   out[2] += (s2[0] + s2[1]) + (s2[2] + s2[3]);
 }
 
+// Stage 1 for nl lines: A(l, :) = sum_i Lc(i, l) D(i, 0:Kn), B(l, :) = sum_i dLc(i, l)
+// D(i, 0:n3) (row-major D, A, B; Lc, dLc column l at + l nb). Cloned like single_line.
+__attribute__((target_clones("arch=x86-64-v3", "default"))) void stage1(
+    int nb, int nl, int Kn, int n3, const double* Lc, const double* dLc, const double* D,
+    long ldD, double* A, long ldA, double* B, long ldB) {
+  for (int l = 0; l < nl; ++l) {
+    double* __restrict a = A + l * ldA;
+    double* __restrict b = B + l * ldB;
+    const double* c = Lc + static_cast<long>(l) * nb;
+    const double* dc = dLc + static_cast<long>(l) * nb;
+    {
+      const double* __restrict d = D;
+      const double c0 = c[0], dc0 = dc[0];
+#pragma omp simd
+      for (int k = 0; k < Kn; ++k) a[k] = c0 * d[k];
+#pragma omp simd
+      for (int k = 0; k < n3; ++k) b[k] = dc0 * d[k];
+    }
+    for (int i = 1; i < nb; ++i) {
+      const double* __restrict d = D + i * ldD;
+      const double ci = c[i], dci = dc[i];
+#pragma omp simd
+      for (int k = 0; k < Kn; ++k) a[k] += ci * d[k];
+#pragma omp simd
+      for (int k = 0; k < n3; ++k) b[k] += dci * d[k];
+    }
+  }
+}
+
 // Sum the kernel over the points of one line rule; the element data are in sc.D0/D1 (in the
 // rule's orientation); sign: orientation of the rule's (s, t) relative to the element's.
 // Stage 1: for every line, the 1-D interpolation across the lines (dense products
@@ -480,15 +509,26 @@ void line_sum(int nb, int K, const LineRule& R, double sign, const Vector3d& x0,
     sc.A.resize(nl, 6 * nb);
     sc.B.resize(nl, 3 * nb);
   }
-  if (n0 > 0) {
-    sc.A.topLeftCorner(n0, Kn).noalias() = R.Lc.leftCols(n0).transpose() * sc.D0.leftCols(Kn);
-    sc.B.topLeftCorner(n0, n3).noalias() = R.dLc.leftCols(n0).transpose() * sc.D0.leftCols(n3);
-  }
-  if (n1 > 0) {
-    sc.A.block(n0, 0, n1, Kn).noalias() =
-        R.Lc.middleCols(n0, n1).transpose() * sc.D1.leftCols(Kn);
-    sc.B.block(n0, 0, n1, n3).noalias() =
-        R.dLc.middleCols(n0, n1).transpose() * sc.D1.leftCols(n3);
+  if constexpr (M == Mode::Single) {
+    if (n0 > 0)
+      stage1(nb, n0, Kn, n3, R.Lc.data(), R.dLc.data(), sc.D0.data(), sc.D0.cols(), sc.A.data(),
+             sc.A.cols(), sc.B.data(), sc.B.cols());
+    if (n1 > 0)
+      stage1(nb, n1, Kn, n3, R.Lc.col(n0).data(), R.dLc.col(n0).data(), sc.D1.data(),
+             sc.D1.cols(), sc.A.row(n0).data(), sc.A.cols(), sc.B.row(n0).data(), sc.B.cols());
+  } else {
+    if (n0 > 0) {
+      sc.A.topLeftCorner(n0, Kn).noalias() =
+          R.Lc.leftCols(n0).transpose() * sc.D0.leftCols(Kn);
+      sc.B.topLeftCorner(n0, n3).noalias() =
+          R.dLc.leftCols(n0).transpose() * sc.D0.leftCols(n3);
+    }
+    if (n1 > 0) {
+      sc.A.block(n0, 0, n1, Kn).noalias() =
+          R.Lc.middleCols(n0, n1).transpose() * sc.D1.leftCols(Kn);
+      sc.B.block(n0, 0, n1, n3).noalias() =
+          R.dLc.middleCols(n0, n1).transpose() * sc.D1.leftCols(n3);
+    }
   }
   const int ld = static_cast<int>(R.LoT.rows());
   if constexpr (M == Mode::Single) {
