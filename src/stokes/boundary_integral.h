@@ -20,13 +20,29 @@
 //    rules and the Lagrange weights (1-D bases and derivatives) at their points are
 //    precomputed once per mesh in this object, for the (i, j) up to the 8 symmetries of the
 //    square (the element's nodal data are permuted instead).
-//  * near elements (nearest point p* of E to x0 at distance h < near_factor * sqrt(area(E))):
-//    p* by Newton (clipped to the square), then the same perpendicular/sinh split around p*
-//    with a radial sinh map u = (h/(c l)) sinh(sigma) (c = sqrt|x_xi||x_eta| at p*, l = ray
-//    length), `n_edge_near` x `n_radial_near` points per triangle. Recomputed per call.
-//  * far elements: nq_far x nq_far Gauss-Legendre.
-// For every point of a special rule, positions, tangents and the density come from one
-// dense product (element data, NB x 6NB) x (1-D bases, NB x npts) per element.
+//  * near elements (nearest point p* of E to x0 at distance h < near_factor * size(E), size =
+//    mean length of E's longer family of coordinate lines): p* by a projected Newton with an
+//    active set (a boundary coordinate whose gradient points outwards is held fixed), then the
+//    same perpendicular/sinh split around p*. Along the rays to one edge the fraction u is
+//    split at u1 = near_split: [0, u1] with u = hu sinh(sigma) (`n_radial_near` Gauss points
+//    in sigma, panels of length <= 6), hu = h / max |J v| over the rays v to the edge's ends
+//    (J = [x_xi x_eta] at p*; hu bounds the near-singular scale of every ray of that edge);
+//    [u1, 1] with `n_radial_near_out` Gauss points in u (the sinh map alone under-resolves the
+//    polynomial part far from p*). `n_edge_near` points in tau. Recomputed per call.
+//  * far elements: Gauss-Legendre, nq_mid x nq_mid for near_factor <= h/size < mid_factor
+//    (h from the Newton above), nq_far x nq_far beyond (bounding-sphere test).
+// Every special rule is a set of "lines": for a fixed u, the points of the two triangles on
+// one edge share the coordinate perpendicular to that edge (constant s for the edges
+// s = +-1, constant t for t = +-1). Interpolation is done in two stages: per line, the 1-D
+// interpolation across the lines (element data nb x 6nb times the 1-D bases: x, f and
+// d/d(across) x), then per point length-nb dot products along the line (x, f, d/d(along) x
+// and d/d(across) x), i.e. ~12 nb multiply-adds per point instead of ~9 nb^2. The single-layer
+// hot loops (stage 1, stage 2 + kernel in blocks of 4 points, far sums, point bases) are
+// compiled twice (x86-64-v3 AVX2/FMA and the default) and chosen at load time.
+// Options: own_tolerance > 0 selects the own rule per canonical node (fewest points meeting
+// the tolerance against a high-order rule on the sphere and an ellipsoid; see the .cpp);
+// interpolate_jf interpolates J f from its nodal values (6 values per point instead of 12:
+// ~1.8x faster, but it changes the discrete operator by ~1e-5 relative at NB=10).
 //
 // Threading: every apply runs an OpenMP loop over targets (omp_get_max_threads threads; the
 // caller limits with omp_set_num_threads). Objects are immutable after construction and
@@ -45,21 +61,24 @@ using Eigen::Matrix3Xd;
 using Eigen::MatrixXd;
 
 struct QuadratureOptions {
+  // Defaults measured on the unit sphere (NE=6/10/14, NB=12/16: 1e-8 in INT S.n dS and
+  // INT T.n dS at interior and next-to-edge nodes) and against a high-order reference on
+  // deformed shapes (tests/stokes/test_stokes_accuracy.cpp: <= 2.5e-8 relative at NE=6 NB=10).
   int nq_far = 0;         // Gauss-Legendre per direction on far elements; 0 -> nb + 3
-  // Defaults measured on the unit sphere (NE=6/10/14, NB=12) to reach 1e-8 in INT S.n dS at
-  // every node type; the edge direction of own elements and the radial direction of near
-  // elements are the ones that need the extra points.
+  int nq_mid = 0;         // ... on elements at near_factor..mid_factor sizes; 0 -> 2 nb + 4
   int n_edge = 0;         // own element: points along the edge coordinate; 0 -> 2 nb
-  int n_radial = 0;       // own element: points along each ray; 0 -> nb + 2
+  int n_radial = 0;       // own element: points along each ray; 0 -> nb + 4
   int n_edge_near = 0;    // near elements: along the edge; 0 -> nb + 2
-  int n_radial_near = 0;  // near elements: along each ray; 0 -> 2 nb - 4
-  double near_factor = 0.2;  // near when dist(x0, E) < near_factor * sqrt(area(E))
+  int n_radial_near = 0;  // near elements: sinh panel [0, near_split] of each ray; 0 -> nb
+  int n_radial_near_out = 0;  // near elements: Gauss panel [near_split, 1]; 0 -> nb
+  double near_split = 0.3;    // ray fraction where the near radial rule switches (<= 0: none)
+  double near_factor = 0.2;   // near when dist(x0, E) < near_factor * size(E)
+  double mid_factor = 0.5;    // nq_mid when dist(x0, E) < mid_factor * size(E)
+  // > 0: per-node own rules (fewest points within this relative tolerance of a (3nb, 2nb+4)
+  // rule; cached per mesh type). Off by default: at 3e-9 it removes 40-45 % of the own points
+  // but misses the 1e-8 INT T.n identity at NE=10 NB=12 and takes seconds at NE=14.
   double own_tolerance = 0.0;
-  double mid_factor = 0.5;
-  int nq_mid = 0;
-  double near_split = 0.3;
-  int n_radial_near_out = 0;
-  bool interpolate_jf = false;
+  bool interpolate_jf = false;  // single layer: interpolate J f (faster, less accurate)
 };
 
 // Counts of the last call (kernel evaluations = source points x targets).
