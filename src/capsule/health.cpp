@@ -72,23 +72,17 @@ HealthReport HealthMonitor::check(const Eigen::Matrix3Xd& x, double t) {
     }
   }
   r.indicator = oscillation_indicator(x);
-  if (r.indicator > opt_.oscillation_fail) {
-    r.level = HealthLevel::Failure;
+  const bool fail = r.indicator > opt_.oscillation_fail;
+  if (fail || (r.indicator > opt_.oscillation_warn && !warned_oscillation_)) {
+    r.level = fail ? HealthLevel::Failure : HealthLevel::Warning;
     r.cause = "oscillation";
     std::ostringstream s;
-    s << "runaway node-to-node oscillation at t = " << t << ": highest-mode amplitude "
-      << r.indicator << " of the element size (limit " << opt_.oscillation_fail << ")";
+    s << (fail ? "runaway node-to-node oscillation" : "node-to-node oscillation growing")
+      << " at t = " << t << ": highest-mode amplitude " << r.indicator << " of the element size ("
+      << (fail ? "limit " : "failure at ") << opt_.oscillation_fail << ")";
     r.message = s.str();
-    return r;
-  }
-  if (r.indicator > opt_.oscillation_warn && !warned_oscillation_) {
+    if (fail) return r;
     warned_oscillation_ = true;
-    r.level = HealthLevel::Warning;
-    r.cause = "oscillation";
-    std::ostringstream s;
-    s << "node-to-node oscillation growing at t = " << t << ": highest-mode amplitude "
-      << r.indicator << " of the element size (failure at " << opt_.oscillation_fail << ")";
-    r.message = s.str();
   }
   normals_ = g.n;
   return r;
