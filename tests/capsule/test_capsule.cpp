@@ -8,6 +8,7 @@
 #include "capsule/capsule.h"
 #include "capsule/health.h"
 #include "geometry/shapes.h"
+#include "spectral/spectral.h"
 
 using namespace capflow;
 using namespace capflow::capsule;
@@ -133,4 +134,50 @@ TEST(Health, WrinklingWarningNeedsPersistenceNearSteadyState) {
   const HealthReport r = hm.check_wrinkling(2.5, -0.1, at, 1e-5);
   EXPECT_EQ(r.level, HealthLevel::Warning);
   EXPECT_EQ(r.cause, "wrinkling");
+}
+
+TEST(Capsule, MembraneLoadIsForceAndTorqueFreeWithTheSmoothedTangents) {
+  // With the tangents the dynamics uses (edge tensors A averaged over coincident nodes, paper
+  // eqs. 18-19), the two elements sharing an edge see the same tension and conormal there, so
+  // the conservative form telescopes: INT f dS vanishes to round-off on ANY shape, not only on
+  // mirror-symmetric ones (with each element's own Lagrange tangents it is only exponentially
+  // small: tests/membrane, MembraneValidation.ForceAndTorqueBalanceConvergeInNB).
+  const Eigen::Matrix3d R =
+      Eigen::AngleAxisd(0.4, Eigen::Vector3d(1.0, 2.0, 3.0).normalized()).toRotationMatrix();
+  const geometry::PointMap skew = [R](const Eigen::Vector3d& p) {
+    const double X = p.x(), Y = p.y(), Z = p.z();
+    const Eigen::Vector3d q(1.3 * X + 0.15 * Y * Z + 0.1 * X * X, 0.85 * Y + 0.12 * X * X - 0.05 * Z,
+                            0.95 * Z + 0.1 * X * Y + 0.08 * Y * Y * Y);
+    return Eigen::Vector3d(R * q + Eigen::Vector3d(0.3, -0.2, 0.1));
+  };
+  for (int ne : {6, 10, 14})
+    for (const membrane::LawKind kind :
+         {membrane::LawKind::Skalak, membrane::LawKind::NeoHookean, membrane::LawKind::MooneyRivlin}) {
+      const geometry::Mesh mesh(ne, 12);
+      membrane::LawOptions law;
+      law.kind = kind;
+      law.psi = 0.5;
+      const Capsule cap(mesh, law, Flow::planar_extension());
+      const Eigen::Matrix3Xd x = geometry::map_points(mesh.reference(), skew);
+      Eigen::Matrix3Xd t1, t2, f;
+      cap.tangents(x, &t1, &t2);
+      cap.membrane().traction_from_tangents(t1, t2, &f);
+      // Nodal (Gauss-Lobatto) quadrature with the same area element the load formula uses.
+      const Eigen::VectorXd w1 = spectral::gauss_lobatto(mesh.nb()).w;
+      Eigen::Vector3d force = Eigen::Vector3d::Zero(), torque = Eigen::Vector3d::Zero();
+      double total = 0;
+      for (int e = 0; e < mesh.ne(); ++e)
+        for (int j = 0; j < mesh.nb(); ++j)
+          for (int i = 0; i < mesh.nb(); ++i) {
+            const int m = mesh.local(e, i, j);
+            const double w = w1[i] * w1[j] * t1.col(m).cross(t2.col(m)).norm();
+            force += w * f.col(m);
+            torque += w * x.col(m).cross(f.col(m));
+            total += w * f.col(m).norm();
+          }
+      std::printf("NE=%d law %d: |INT f dS| / INT |f| dS = %.1e, torque %.1e\n", ne,
+                  static_cast<int>(kind), force.norm() / total, torque.norm() / total);
+      EXPECT_LT(force.norm(), 1e-12 * total) << "NE=" << ne;
+      EXPECT_LT(torque.norm(), 1e-11 * total) << "NE=" << ne;
+    }
 }
