@@ -129,8 +129,7 @@ namespace {
 // INT T.n dS = -4 pi I holds where the surface is smooth. On an element edge the interpolated
 // surface has a kink (normal jump ~1e-6 at NB=12) and the integral is minus twice the solid
 // angle there, so edge and corner nodes get a bound proportional to the jump.
-// tol_tn: bound for interior and next-to-edge nodes (1e-8 is the target; NE=14 measured 8.1e-8,
-// reported as a shortfall in docs/validation.md).
+// Interior and next-to-edge nodes: the 1e-8 target.
 void check_sphere(int ne, int nb, double tol_exact, double tol_tn = 1e-8) {
   const SphereErrors e = sphere_errors(ne, nb, false);
   EXPECT_LT(maxof(e.sn), 1e-8 * 16 * kPi / 3) << "NE=" << ne;
@@ -143,8 +142,10 @@ void check_sphere(int ne, int nb, double tol_exact, double tol_tn = 1e-8) {
 
 TEST(StokesSphere, IdentitiesNE6NB12) { check_sphere(6, 12, 1e-6); }
 TEST(StokesSphere, IdentitiesNE10NB12) { check_sphere(10, 12, 1e-6); }
-TEST(StokesSphere, IdentitiesNE14NB12) { check_sphere(14, 12, 1e-6, 2e-7); }
+TEST(StokesSphere, IdentitiesNE14NB12) { check_sphere(14, 12, 1e-6); }
 TEST(StokesSphere, IdentitiesNE6NB16) { check_sphere(6, 16, 1e-9); }
+TEST(StokesSphere, IdentitiesNE10NB16) { check_sphere(10, 16, 1e-9); }
+TEST(StokesSphere, IdentitiesNE14NB16) { check_sphere(14, 16, 1e-9); }
 
 // The subset API gives the same values as the all-nodes API; off-surface points agree with
 // plain high-order Gauss; a point just inside the sphere still sees INT S dS = 16 pi/3 I.
