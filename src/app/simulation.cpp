@@ -514,6 +514,7 @@ RunSummary Simulation::run(const std::atomic<bool>* stop) {
     const double dt = o.time.dt;
     if (t >= o.time.t_end - 0.5 * dt) break;
 
+    bool stop_at_steady = false;
     const Eigen::Matrix3Xd last_good = s.cap->positions();
     const long steps_prev = s.cap->step_count();
     std::string failure;
@@ -555,6 +556,7 @@ RunSummary Simulation::run(const std::atomic<bool>* stop) {
           if (!csv) m = s.measure(true);
           s.write_steady(m, s.schedule->level());
           ++sum.steady_states;
+          if (o.steady.stop && s.schedule->in_final_hold()) stop_at_steady = true;
         }
         if (ev.steady || ev.level_changed) {
           s.say(ev.description);
@@ -606,6 +608,10 @@ RunSummary Simulation::run(const std::atomic<bool>* stop) {
         std::cerr << "\r\033[K" << line.str() << std::flush;
       else
         s.say(line.str());
+    }
+    if (stop_at_steady) {
+      reason = "steady state of the final level (steady.stop)";
+      break;
     }
   }
   m = s.measure(true);

@@ -398,6 +398,7 @@ ParsedControl parse_control(const std::string& text, const std::string& source) 
     r.number("tolerance", &o.steady.tolerance, open_closed(0.0, 1.0), "the steady-state rate tolerance");
     r.number("window", &o.steady.window, open_closed(0.0, 100.0), "the steady-state window");
     r.number("min_hold", &o.steady.min_hold, closed(0.0, 1e4), "the minimum hold time");
+    r.boolean("stop", &o.steady.stop);
     r.finish();
   }
   {
@@ -539,7 +540,7 @@ std::string to_json_text(const ControlOptions& o) {
     j["ca"] = list;
   }
   j["steady"] = {{"tolerance", o.steady.tolerance}, {"window", o.steady.window},
-                 {"min_hold", o.steady.min_hold}};
+                 {"min_hold", o.steady.min_hold}, {"stop", o.steady.stop}};
   j["output"] = {{"dir", o.output.dir},
                  {"csv_every", o.output.csv_every},
                  {"frame_every", o.output.frame_every},

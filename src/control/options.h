@@ -55,6 +55,8 @@ struct SteadyOptions {
   double window = 0.5;      // "steady.window": time over which the rates are measured, (0, 100]
   double min_hold = 1.0;    // "steady.min_hold": minimum time at a Ca level before a steady state
                             // may be declared, [0, 1e4]
+  bool stop = false;        // "steady.stop": end the run at the steady state of the final level
+                            // (after the last schedule segment; a constant "ca" has only that)
 };
 
 struct Mp4Options {

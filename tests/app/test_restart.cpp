@@ -80,3 +80,29 @@ TEST(Restart, RefusesMissingAndCorruptCheckpoints) {
   }
   fs::remove_all(d);
 }
+
+TEST(SteadyStop, RunEndsAtTheSteadyStateOfTheFinalLevel) {
+  // A loose tolerance makes the first admissible sample steady; with steady.stop the run ends
+  // there (the last row and the steady row are written), without it the run goes on to t_end.
+  auto opts = [](const fs::path& dir, bool stop) {
+    control::ParsedControl p = control::parse_control(R"({
+      "capsule": {"law": "neo-hookean"}, "mesh": {"elements": 6, "nb": 6},
+      "time": {"dt": 0.004, "t_end": 0.2}, "ca": 0.2,
+      "steady": {"window": 0.02, "min_hold": 0.04, "tolerance": 1.0},
+      "output": {"csv_every": 0.02}})");
+    p.options.output.dir = dir.string();
+    p.options.steady.stop = stop;
+    return p.options;
+  };
+  const fs::path a = test::fresh_dir("stop"), b = test::fresh_dir("nostop");
+  app::Simulation sa(opts(a, true), "");
+  const app::RunSummary ra = sa.run();
+  app::Simulation sb(opts(b, false), "");
+  const app::RunSummary rb = sb.run();
+  EXPECT_NE(ra.reason.find("steady.stop"), std::string::npos) << ra.reason;
+  EXPECT_EQ(ra.steady_states, 1);
+  EXPECT_LT(ra.t, 0.1);
+  EXPECT_GT(ra.t, 0.039);
+  EXPECT_NEAR(rb.t, 0.2, 1e-9);
+  EXPECT_EQ(test::lines_of(a / "steady.csv").size(), 2u);  // header + one row
+}

@@ -41,6 +41,8 @@ TEST(ControlFile, MinimalFileGetsDefaults) {
   ASSERT_EQ(p.options.ca.segments.size(), 1u);
   EXPECT_TRUE(p.options.ca.constant);
   EXPECT_DOUBLE_EQ(p.options.ca.segments[0].ca, 0.45);
+  EXPECT_FALSE(p.options.steady.stop);
+  EXPECT_TRUE(parse_control(R"({"ca": 0.4, "steady": {"stop": true}})").options.steady.stop);
 }
 
 TEST(ControlFile, MilestoneThreeExampleParses) {
@@ -118,6 +120,7 @@ TEST(ControlFile, IntegerRangesAndSets) {
 TEST(ControlFile, TypesAreChecked) {
   expect_contains(issue_at(R"({"ca": 0.4, "time": {"dt": "x"}})", "time.dt"), "expected a number");
   expect_contains(issue_at(R"({"ca": 0.4, "output": {"png": 1}})", "output.png"), "true or false");
+  expect_contains(issue_at(R"({"ca": 0.4, "steady": {"stop": "yes"}})", "steady.stop"), "true or false");
   expect_contains(issue_at(R"({"ca": 0.4, "mesh": 3})", "mesh"), "expected an object");
   expect_contains(issue_at(R"({"ca": 0.4, "output": {"dir": ""}})", "output.dir"), "non-empty string");
   expect_contains(issue_at(R"({"ca": 0.4, "output": {"mp4": "yes"}})", "output.mp4"), "true, false");
