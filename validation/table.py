@@ -1,0 +1,255 @@
+#!/usr/bin/env python3
+"""Milestone 3 paper reproduction: runs the control files of validation/ with capflow (unless
+their run directory already holds a finished run and --reuse is given) and prints the markdown
+tables of docs/validation.md (section "dynamics").
+
+Usage: validation/table.py [--exe build/src/app/capflow] [--reuse] [--only NAME[,NAME...]]
+
+Every figure comes from the run's own outputs: run.log (the "end" line: t, steps, wall, D, L,
+volume drift), steady.csv (the steady-state row), timeseries.csv (time series and inclination).
+A check that fails is printed as failing, with its figure.
+"""
+import argparse
+import csv
+import json
+import os
+import re
+import subprocess
+import sys
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+# name: (control file, paper values, kind)
+STEADY = [
+    ("skalak_ca045", "Skalak C=1, Ca=0.45", 0.548, 1.76),
+    ("skalak_ca060", "Skalak C=1, Ca=0.6", 0.595, 1.90),
+    ("nh_ca018", "neo-Hookean, Ca=0.18", 0.507, 1.60),
+    ("nh_ca021", "neo-Hookean, Ca=0.21", 0.552, 1.71),
+]
+STRONG = [
+    ("strong_skalak_ca125", "Skalak C=1, Ca=1.25 from rest", "stable steady state (t=30 in the paper)"),
+    ("strong_nh_ca040", "neo-Hookean, Ca=0.4 from rest", "steady, semi-length L ~ 3 (t=40)"),
+]
+SHEAR = ["shear_nh_ca00375", "shear_nh_ca0075", "shear_nh_ca015", "shear_nh_ca03", "shear_nh_ca06"]
+CONVERGENCE_NB = [8, 9, 10, 11, 12, 13, 14, 15]
+
+
+def control(name):
+    return os.path.join(ROOT, "validation", name + ".json")
+
+
+def run_dir(name):
+    with open(control(name)) as f:
+        d = json.load(f)
+    return os.path.join(ROOT, d["output"]["dir"]), d
+
+
+def end_line(rdir):
+    path = os.path.join(rdir, "run.log")
+    if not os.path.exists(path):
+        return None
+    last = None
+    with open(path) as f:
+        for line in f:
+            if "] end (" in line:
+                last = line
+    if last is None:
+        return None
+    m = re.search(r"end \((.*)\): t=([-0-9.e+]+) steps=(\d+) wall=([0-9.]+) s, D=([-0-9.e+]+) "
+                  r"L=([-0-9.e+]+) S=([-0-9.e+]+) W=([-0-9.e+]+), volume drift ([-0-9.e+]+)", last)
+    if not m:
+        return None
+    keys = ["reason", "t", "steps", "wall", "D", "L", "S", "W", "drift"]
+    out = dict(zip(keys, m.groups()))
+    for k in keys[1:]:
+        out[k] = float(out[k])
+    return out
+
+
+def ensure_run(exe, name, reuse, nb=None):
+    """Runs validation/NAME.json (with mesh.nb = nb and a run directory suffixed _nbNB if nb is
+    given: the variant's control file is written next to its run directory) unless --reuse and
+    the run directory already holds a finished run. Returns the run directory and the control."""
+    rdir, cfg = run_dir(name)
+    path = control(name)
+    if nb is not None:
+        rdir += "_nb%d" % nb
+        cfg["mesh"]["nb"] = nb
+        cfg["output"]["dir"] = os.path.relpath(rdir, ROOT)
+        path = rdir + ".json"
+        with open(path, "w") as f:
+            json.dump(cfg, f)
+    if reuse and end_line(rdir) is not None:
+        return rdir, cfg
+    cmd = [exe, "run", path, "-o", rdir]
+    print("validation/table.py: " + " ".join(cmd), file=sys.stderr, flush=True)
+    with open(rdir + ".out", "w") as log:
+        subprocess.run(cmd, stdout=log, stderr=subprocess.STDOUT, check=False)
+    return rdir, cfg
+
+
+def steady_row(rdir):
+    path = os.path.join(rdir, "steady.csv")
+    if not os.path.exists(path):
+        return None
+    with open(path) as f:
+        rows = list(csv.DictReader(f))
+    return {k: float(v) for k, v in rows[-1].items()} if rows else None
+
+
+def series(rdir):
+    with open(os.path.join(rdir, "timeseries.csv")) as f:
+        return [{k: float(v) for k, v in r.items()} for r in csv.DictReader(f)]
+
+
+def resolution(cfg):
+    return "NE=%d NB=%d dt=%g" % (cfg["mesh"]["elements"], cfg["mesh"]["nb"], cfg["time"]["dt"])
+
+
+def fmt_wall(s):
+    return "%.0f s" % s
+
+
+def steady_table(exe, reuse, only):
+    print("Steady states, planar extension, lambda = 1 (inertia-ellipsoid D and L; targets: D within")
+    print("0.5 %, L within 1 %, relative volume drift <= 1e-7 at steady state):")
+    print()
+    print("| run | resolution | paper D, L | capflow D, L | error D, L | volume drift | t steady | wall | verdict |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for name, label, pd, pl in STEADY:
+        if only and name not in only:
+            continue
+        rdir, cfg = ensure_run(exe, name, reuse)
+        e = end_line(rdir)
+        st = steady_row(rdir)
+        if e is None or st is None:
+            why = e["reason"] if e else "did not finish"
+            print("| %s | %s | %.3f, %.2f | no steady state (%s) | | | | | FAIL |" % (label, resolution(cfg), pd, pl, why))
+            continue
+        ed, el = (st["D"] - pd) / pd, (st["L"] - pl) / pl
+        ok = abs(ed) <= 0.005 and abs(el) <= 0.01
+        okv = abs(e["drift"]) <= 1e-7
+        verdict = ("D, L PASS" if ok else "D, L FAIL") + "; " + ("drift PASS" if okv else "drift FAIL")
+        print("| %s | %s | %.3f, %.2f | %.4f, %.4f | %+.2f %%, %+.2f %% | %.1e | %.2f | %s | %s |" % (
+            label, resolution(cfg), pd, pl, st["D"], st["L"], 100 * ed, 100 * el, e["drift"], e["t"],
+            fmt_wall(e["wall"]), verdict))
+    print()
+
+
+def strong_table(exe, reuse, only):
+    print("Strong flow from rest (planar extension), at the detected steady state:")
+    print()
+    print("| run | resolution | paper | t steady | L | S | W | Lc | Sc | Wc | edge curv. | tau_max | volume drift | wall |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    for name, label, paper in STRONG:
+        if only and name not in only:
+            continue
+        if not os.path.exists(control(name)):
+            continue
+        rdir, cfg = ensure_run(exe, name, reuse)
+        e = end_line(rdir)
+        st = steady_row(rdir)
+        if e is None or st is None:
+            why = e["reason"] if e else "did not finish"
+            tt = "%.2f" % e["t"] if e else "-"
+            print("| %s | %s | %s | no steady state by t=%s (%s) | | | | | | | | | | |" % (label, resolution(cfg), paper, tt, why))
+            continue
+        print("| %s | %s | %s | %.2f | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f | %.3f | %.3f | %.1e | %s |" % (
+            label, resolution(cfg), paper, e["t"], st["L"], st["S"], st["W"], st["Lc"], st["Sc"], st["Wc"],
+            st["edge_curvature"], st["tau_max"], e["drift"], fmt_wall(e["wall"])))
+    print()
+
+
+def shear_table(exe, reuse, only):
+    print("Simple shear, neo-Hookean, lambda = 1: steady tank-treading (major/minor semi-axes in the")
+    print("flow-gradient plane; inclination of the long axis from the flow direction x):")
+    print()
+    print("| Ca | resolution | t steady | D | L | S | W | inclination (deg) | volume drift | wall |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for name in SHEAR:
+        if only and name not in only:
+            continue
+        if not os.path.exists(control(name)):
+            continue
+        rdir, cfg = ensure_run(exe, name, reuse)
+        e = end_line(rdir)
+        st = steady_row(rdir)
+        ca = cfg["ca"]
+        if e is None or st is None:
+            why = e["reason"] if e else "did not finish"
+            print("| %g | %s | no steady state (%s) | | | | | | | |" % (ca, resolution(cfg), why))
+            continue
+        incl = series(rdir)[-1]["inclination_deg"]
+        print("| %g | %s | %.2f | %.4f | %.4f | %.4f | %.4f | %.2f | %.1e | %s |" % (
+            ca, resolution(cfg), e["t"], st["D"], st["L"], st["S"], st["W"], incl, e["drift"], fmt_wall(e["wall"])))
+    print()
+
+
+def convergence_table(exe, reuse, only):
+    name = "convergence_skalak_ca15"
+    if (only and name not in only) or not os.path.exists(control(name)):
+        return
+    _, cfg = run_dir(name)
+    t_at = cfg["time"]["t_end"]
+    rows = []
+    for nb in CONVERGENCE_NB:
+        rdir, _ = ensure_run(exe, name, reuse, nb=nb)
+        e = end_line(rdir)
+        if e is None:
+            rows.append((nb, None, None, None))
+            continue
+        rows.append((nb, e["D"], e, rdir))
+    ref = rows[-1][1]
+    print("Spectral convergence (paper fig. 4): Skalak C=1, Ca=1.5, NE=%d, dt=%g, D at t=%g against" % (
+        cfg["mesh"]["elements"], cfg["time"]["dt"], t_at))
+    print("NB=%d (paper: D ~ 0.49, length +71 %%, width -41 %%; 2e-6 at NB=14):" % CONVERGENCE_NB[-1])
+    print()
+    print("| NB | D | L | S | relative difference to NB=%d | volume drift | wall |" % CONVERGENCE_NB[-1])
+    print("|---|---|---|---|---|---|---|")
+    for nb, d, e, _ in rows:
+        if d is None:
+            print("| %d | did not finish | | | | | |" % nb)
+            continue
+        diff = "-" if nb == CONVERGENCE_NB[-1] else "%.1e" % (abs(d - ref) / abs(ref))
+        print("| %d | %.7f | %.5f | %.5f | %s | %.1e | %s |" % (nb, d, e["L"], e["S"], diff, e["drift"], fmt_wall(e["wall"])))
+    print()
+
+
+def fig2_table(exe, reuse, only):
+    print("Paper fig. 2b: Skalak C=1, Ca=0.35, with smoothing, to t=10 (stability and volume drift):")
+    print()
+    print("| run | resolution | reached | D, L at the end | volume drift | wall | verdict |")
+    print("|---|---|---|---|---|---|---|")
+    for name in ["fig2_smoothing", "fig2_smoothing_ne14"]:
+        if (only and name not in only) or not os.path.exists(control(name)):
+            continue
+        rdir, cfg = ensure_run(exe, name, reuse)
+        e = end_line(rdir)
+        if e is None:
+            print("| %s | %s | did not finish | | | | FAIL |" % (name, resolution(cfg)))
+            continue
+        reached = e["t"] >= cfg["time"]["t_end"] - 1e-9
+        verdict = ("stable PASS" if reached else "FAIL (%s)" % e["reason"]) + "; " + (
+            "drift PASS" if abs(e["drift"]) <= 1e-6 else "drift FAIL (1e-6)")
+        print("| %s | %s | t=%.2f (%s) | %.4f, %.4f | %.1e | %s | %s |" % (
+            name, resolution(cfg), e["t"], e["reason"], e["D"], e["L"], e["drift"], fmt_wall(e["wall"]), verdict))
+    print()
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--exe", default=os.path.join(ROOT, "build/src/app/capflow"))
+    ap.add_argument("--reuse", action="store_true", help="reuse finished runs in their run directories")
+    ap.add_argument("--only", default="", help="comma-separated run names")
+    args = ap.parse_args()
+    only = set(filter(None, args.only.split(",")))
+    os.makedirs(os.path.join(ROOT, "runs", "validation"), exist_ok=True)
+    fig2_table(args.exe, args.reuse, only)
+    steady_table(args.exe, args.reuse, only)
+    convergence_table(args.exe, args.reuse, only)
+    strong_table(args.exe, args.reuse, only)
+    shear_table(args.exe, args.reuse, only)
+
+
+if __name__ == "__main__":
+    main()
