@@ -110,21 +110,31 @@ def fmt_wall(s):
     return "%.0f s" % s
 
 
+def steady_runs(exe, reuse, only, names):
+    """Yields (name, cfg, end, steady row or None, why) for the selected runs that have a control
+    file; `why` says why there is no steady state."""
+    for name in names:
+        if (only and name not in only) or not os.path.exists(control(name)):
+            continue
+        rdir, cfg = ensure_run(exe, name, reuse)
+        e, st = end_line(rdir), steady_row(rdir)
+        why = None
+        if e is None or st is None:
+            why = "no steady state by t=%.2f (%s)" % (e["t"], e["reason"]) if e else "did not finish"
+        yield name, rdir, cfg, e, st, why
+
+
 def steady_table(exe, reuse, only):
     print("Steady states, planar extension, lambda = 1 (inertia-ellipsoid D and L; targets: D within")
     print("0.5 %, L within 1 %, relative volume drift <= 1e-7 at steady state):")
     print()
     print("| run | resolution | paper D, L | capflow D, L | error D, L | volume drift | t steady | wall | verdict |")
     print("|---|---|---|---|---|---|---|---|---|")
-    for name, label, pd, pl in STEADY:
-        if only and name not in only:
-            continue
-        rdir, cfg = ensure_run(exe, name, reuse)
-        e = end_line(rdir)
-        st = steady_row(rdir)
-        if e is None or st is None:
-            why = e["reason"] if e else "did not finish"
-            print("| %s | %s | %.3f, %.2f | no steady state (%s) | | | | | FAIL |" % (label, resolution(cfg), pd, pl, why))
+    paper = {name: (label, pd, pl) for name, label, pd, pl in STEADY}
+    for name, rdir, cfg, e, st, why in steady_runs(exe, reuse, only, paper):
+        label, pd, pl = paper[name]
+        if why:
+            print("| %s | %s | %.3f, %.2f | %s | | | | | FAIL |" % (label, resolution(cfg), pd, pl, why))
             continue
         ed, el = (st["D"] - pd) / pd, (st["L"] - pl) / pl
         ok = abs(ed) <= 0.005 and abs(el) <= 0.01
@@ -141,21 +151,14 @@ def strong_table(exe, reuse, only):
     print()
     print("| run | resolution | paper | t steady | L | S | W | Lc | Sc | Wc | edge curv. | tau_max | volume drift | wall |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
-    for name, label, paper in STRONG:
-        if only and name not in only:
-            continue
-        if not os.path.exists(control(name)):
-            continue
-        rdir, cfg = ensure_run(exe, name, reuse)
-        e = end_line(rdir)
-        st = steady_row(rdir)
-        if e is None or st is None:
-            why = e["reason"] if e else "did not finish"
-            tt = "%.2f" % e["t"] if e else "-"
-            print("| %s | %s | %s | no steady state by t=%s (%s) | | | | | | | | | | |" % (label, resolution(cfg), paper, tt, why))
+    paper = {name: (label, text) for name, label, text in STRONG}
+    for name, rdir, cfg, e, st, why in steady_runs(exe, reuse, only, paper):
+        label, text = paper[name]
+        if why:
+            print("| %s | %s | %s | %s | | | | | | | | | | |" % (label, resolution(cfg), text, why))
             continue
         print("| %s | %s | %s | %.2f | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f | %.3f | %.3f | %.1e | %s |" % (
-            label, resolution(cfg), paper, e["t"], st["L"], st["S"], st["W"], st["Lc"], st["Sc"], st["Wc"],
+            label, resolution(cfg), text, e["t"], st["L"], st["S"], st["W"], st["Lc"], st["Sc"], st["Wc"],
             st["edge_curvature"], st["tau_max"], e["drift"], fmt_wall(e["wall"])))
     print()
 
@@ -166,18 +169,10 @@ def shear_table(exe, reuse, only):
     print()
     print("| Ca | resolution | t steady | D | L | S | W | inclination (deg) | volume drift | wall |")
     print("|---|---|---|---|---|---|---|---|---|---|")
-    for name in SHEAR:
-        if only and name not in only:
-            continue
-        if not os.path.exists(control(name)):
-            continue
-        rdir, cfg = ensure_run(exe, name, reuse)
-        e = end_line(rdir)
-        st = steady_row(rdir)
+    for name, rdir, cfg, e, st, why in steady_runs(exe, reuse, only, SHEAR):
         ca = cfg["ca"]
-        if e is None or st is None:
-            why = e["reason"] if e else "did not finish"
-            print("| %g | %s | no steady state (%s) | | | | | | | |" % (ca, resolution(cfg), why))
+        if why:
+            print("| %g | %s | %s | | | | | | | |" % (ca, resolution(cfg), why))
             continue
         incl = series(rdir)[-1]["inclination_deg"]
         print("| %g | %s | %.2f | %.4f | %.4f | %.4f | %.4f | %.2f | %.1e | %s |" % (
