@@ -69,3 +69,18 @@ TEST(PaperShort, SkalakCa035AtT015) {
   EXPECT_NEAR(o.L, 1.15, 0.01);
   EXPECT_NEAR(o.S, 0.87, 0.01);
 }
+
+// Volume conservation is limited by how well the element around the tip (+-x) resolves the
+// traction there: on NE=6 the cap element spans the whole tip region, whose curvature peaks
+// sharply at the tip (radius of curvature ~0.15 at Ca=0.45); NE=14 (paper fig. 1c: three rows
+// along y) cuts it into a 30-degree row. Same flow, NB and dt: NE=14 keeps the volume ~100x
+// better (docs/validation.md, Milestone 3).
+TEST(PaperShort, TipResolutionGovernsVolumeConservation) {
+  const Outcome o6 = run(6, 10, 0.45, 2e-3, 1.0, true);
+  const Outcome o14 = run(14, 10, 0.45, 2e-3, 1.0, true);
+  std::printf("Skalak Ca=0.45, NB=10, t=1: volume drift NE=6 %.2e, NE=14 %.2e; D %.5f / %.5f\n",
+              o6.volume_drift, o14.volume_drift, o6.D, o14.D);
+  EXPECT_LT(std::abs(o14.volume_drift), 5e-7);
+  EXPECT_LT(std::abs(o14.volume_drift) * 50, std::abs(o6.volume_drift));
+  EXPECT_NEAR(o6.D, o14.D, 2e-3);
+}
