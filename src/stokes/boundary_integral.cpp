@@ -364,6 +364,51 @@ void nearest_point(const geometry::Mesh& mesh, const Matrix3Xd& x, int e, const 
   xt = p.xt;
 }
 
+// One quadrature point of a kernel sum, shared by the special rules and the far field (the
+// single layer's hot loops have their own vectorised copies: single_line, far_single).
+// r = x - x0; wj = weight * J; (nx, ny, nz) = weight * J * unit normal; (fx, fy, fz) the density
+// (Double: already minus u(x0)). Adds the point's contribution to s[0..2] (s[0..8] for the 3x3
+// matrix of DoubleNormal, column-major).
+template <BoundaryOperators::Mode M>
+[[gnu::always_inline]] inline void kernel_point(double rx, double ry, double rz, double wj,
+                                                double nx, double ny, double nz, double fx,
+                                                double fy, double fz, double& s0, double& s1,
+                                                double& s2, double& s3, double& s4, double& s5,
+                                                double& s6, double& s7, double& s8) {
+  using Mode = BoundaryOperators::Mode;
+  const double ir = 1.0 / std::sqrt(rx * rx + ry * ry + rz * rz);
+  const double ir3 = ir * ir * ir;
+  if constexpr (M == Mode::Single) {
+    const double rd = rx * fx + ry * fy + rz * fz;
+    const double a = wj * ir, b = wj * rd * ir3;
+    s0 += a * fx + b * rx;
+    s1 += a * fy + b * ry;
+    s2 += a * fz + b * rz;
+  } else if constexpr (M == Mode::SingleNormal) {
+    const double b = (rx * nx + ry * ny + rz * nz) * ir3;
+    s0 += ir * nx + b * rx;
+    s1 += ir * ny + b * ry;
+    s2 += ir * nz + b * rz;
+  } else if constexpr (M == Mode::Double) {
+    const double rq = rx * fx + ry * fy + rz * fz;
+    const double a = -6.0 * rq * (rx * nx + ry * ny + rz * nz) * ir3 * ir * ir;
+    s0 += a * rx;
+    s1 += a * ry;
+    s2 += a * rz;
+  } else {
+    const double a = -6.0 * (rx * nx + ry * ny + rz * nz) * ir3 * ir * ir;
+    s0 += a * rx * rx;
+    s1 += a * ry * rx;
+    s2 += a * rz * rx;
+    s3 += a * rx * ry;
+    s4 += a * ry * ry;
+    s5 += a * rz * ry;
+    s6 += a * rx * rz;
+    s7 += a * ry * rz;
+    s8 += a * rz * rz;
+  }
+}
+
 // Far-field data at the Gauss points, row-major rows:
 // 0-2 x, 3-5 density (Single: times w J), 6-8 w (x_xi x x_eta), 9 w J.
 struct FarData {
@@ -599,45 +644,12 @@ void line_sum(int nb, int K, const LineRule& R, double sign, const Vector3d& x0,
       const double nx = sg * (A1[p] * O2[p] - A2[p] * O1[p]);
       const double ny = sg * (A2[p] * O0[p] - A0[p] * O2[p]);
       const double nz = sg * (A0[p] * O1[p] - A1[p] * O0[p]);
-      const double rx = X0[p] - x0[0], ry = X1[p] - x0[1], rz = X2[p] - x0[2];
-      const double r2 = rx * rx + ry * ry + rz * rz;
-      const double ir = 1.0 / std::sqrt(r2);
-      const double ir3 = ir * ir * ir;
-      if constexpr (M == Mode::Single) {
-        const double fx = F0[p], fy = F1[p], fz = F2[p];
-        const double wj = w[p] * std::sqrt(nx * nx + ny * ny + nz * nz);
-        const double rd = rx * fx + ry * fy + rz * fz;
-        const double a = wj * ir, bb = wj * rd * ir3;
-        s0 += a * fx + bb * rx;
-        s1 += a * fy + bb * ry;
-        s2 += a * fz + bb * rz;
-      } else if constexpr (M == Mode::SingleNormal) {
-        const double rn = (rx * nx + ry * ny + rz * nz) * w[p];
-        const double bb = rn * ir3, a = ir * w[p];
-        s0 += a * nx + bb * rx;
-        s1 += a * ny + bb * ry;
-        s2 += a * nz + bb * rz;
-      } else if constexpr (M == Mode::Double) {
-        const double qx = F0[p] - u0[0], qy = F1[p] - u0[1], qz = F2[p] - u0[2];
-        const double rq = rx * qx + ry * qy + rz * qz;
-        const double rn = rx * nx + ry * ny + rz * nz;
-        const double a = -6.0 * w[p] * rq * rn * ir3 * ir * ir;
-        s0 += a * rx;
-        s1 += a * ry;
-        s2 += a * rz;
-      } else {
-        const double rn = rx * nx + ry * ny + rz * nz;
-        const double a = -6.0 * w[p] * rn * ir3 * ir * ir;
-        s0 += a * rx * rx;
-        s1 += a * ry * rx;
-        s2 += a * rz * rx;
-        s3 += a * rx * ry;
-        s4 += a * ry * ry;
-        s5 += a * rz * ry;
-        s6 += a * rx * rz;
-        s7 += a * ry * rz;
-        s8 += a * rz * rz;
-      }
+      const double wj = w[p] * std::sqrt(nx * nx + ny * ny + nz * nz);
+      const double fx = M == Mode::Double ? F0[p] - u0[0] : F0[p];
+      const double fy = M == Mode::Double ? F1[p] - u0[1] : F1[p];
+      const double fz = M == Mode::Double ? F2[p] - u0[2] : F2[p];
+      kernel_point<M>(X0[p] - x0[0], X1[p] - x0[1], X2[p] - x0[2], wj, w[p] * nx, w[p] * ny,
+                      w[p] * nz, fx, fy, fz, s0, s1, s2, s3, s4, s5, s6, s7, s8);
     }
     acc[0] += s0;
     acc[1] += s1;
@@ -1008,45 +1020,9 @@ void far_sum(const FarData& F, int q0, int q1, const Vector3d& x0, const Vector3
   const double U0 = u0[0], U1 = u0[1], U2 = u0[2];
   double s0 = 0, s1 = 0, s2 = 0, s3 = 0, s4 = 0, s5 = 0, s6 = 0, s7 = 0, s8 = 0;
 #pragma omp simd reduction(+ : s0, s1, s2, s3, s4, s5, s6, s7, s8)
-  for (int q = q0; q < q1; ++q) {
-    const double rx = px[q] - X0, ry = py[q] - X1, rz = pz[q] - X2;
-    const double r2 = rx * rx + ry * ry + rz * rz;
-    const double ir = 1.0 / std::sqrt(r2);
-    const double ir3 = ir * ir * ir;
-    if constexpr (M == Mode::Single) {
-      const double rd = rx * fx[q] + ry * fy[q] + rz * fz[q];
-      const double a = wj[q] * ir, b = wj[q] * rd * ir3;
-      s0 += a * fx[q] + b * rx;
-      s1 += a * fy[q] + b * ry;
-      s2 += a * fz[q] + b * rz;
-    } else if constexpr (M == Mode::SingleNormal) {
-      const double rn = rx * nx[q] + ry * ny[q] + rz * nz[q];
-      const double b = rn * ir3;
-      s0 += ir * nx[q] + b * rx;
-      s1 += ir * ny[q] + b * ry;
-      s2 += ir * nz[q] + b * rz;
-    } else if constexpr (M == Mode::Double) {
-      const double qx = fx[q] - U0, qy = fy[q] - U1, qz = fz[q] - U2;
-      const double rq = rx * qx + ry * qy + rz * qz;
-      const double rn = rx * nx[q] + ry * ny[q] + rz * nz[q];
-      const double a = -6.0 * rq * rn * ir3 * ir * ir;
-      s0 += a * rx;
-      s1 += a * ry;
-      s2 += a * rz;
-    } else {
-      const double rn = rx * nx[q] + ry * ny[q] + rz * nz[q];
-      const double a = -6.0 * rn * ir3 * ir * ir;
-      s0 += a * rx * rx;
-      s1 += a * ry * rx;
-      s2 += a * rz * rx;
-      s3 += a * rx * ry;
-      s4 += a * ry * ry;
-      s5 += a * rz * ry;
-      s6 += a * rx * rz;
-      s7 += a * ry * rz;
-      s8 += a * rz * rz;
-    }
-  }
+  for (int q = q0; q < q1; ++q)
+    kernel_point<M>(px[q] - X0, py[q] - X1, pz[q] - X2, wj[q], nx[q], ny[q], nz[q],
+                    fx[q] - U0, fy[q] - U1, fz[q] - U2, s0, s1, s2, s3, s4, s5, s6, s7, s8);
   acc[0] += s0;
   acc[1] += s1;
   acc[2] += s2;
