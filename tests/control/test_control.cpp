@@ -191,6 +191,18 @@ TEST(ControlFile, TimeStepAboveStabilityEstimateWarns) {
   for (const auto& w : q.warnings) EXPECT_NE(w.path, "time.dt");
 }
 
+TEST(ControlFile, PlanarExtensionOffTheTipResolvingMeshWarns) {
+  auto warns = [](const char* json) {
+    for (const auto& w : parse_control(json).warnings)
+      if (w.path == "mesh.elements") return true;
+    return false;
+  };
+  EXPECT_TRUE(warns(R"({"ca": 0.45, "mesh": {"elements": 6}})"));
+  EXPECT_TRUE(warns(R"({"ca": 0.45})"));  // default NE=10
+  EXPECT_FALSE(warns(R"({"ca": 0.45, "mesh": {"elements": 14}})"));
+  EXPECT_FALSE(warns(R"({"ca": 0.45, "mesh": {"elements": 6}, "flow": {"type": "simple-shear"}})"));
+}
+
 TEST(ControlFile, EffectiveFileRoundTrips) {
   const ParsedControl p = parse_control(R"({"ca": [{"ca": 0.45, "hold": "steady"},
       {"steps": {"to": 1.0, "by": 0.25, "hold": 2}}], "mesh": {"elements": 6, "nb": 9},
