@@ -6,6 +6,7 @@
 // names the cause, time and location; the last good state is kept and checkpointed).
 #include <atomic>
 #include <csignal>
+#include <string>
 #include <iostream>
 #include <memory>
 
@@ -73,8 +74,20 @@ void setup_run(CLI::App& root) {
   c->add_option("-o,--output", args->output_dir, "Run directory (overrides output.dir)");
   c->add_option("--resume", args->resume, "Continue the run in RUN_DIR from its newest checkpoint")
       ->check(CLI::ExistingDirectory);
+  // The same range as time.t_end in the control file.
+  const CLI::Validator t_end_range(
+      [](std::string& v) -> std::string {
+        try {
+          size_t used = 0;
+          const double t = std::stod(v, &used);
+          if (used == v.size() && t > 0.0 && t <= 1e6) return "";
+        } catch (const std::exception&) {
+        }
+        return "--t-end " + v + " is not valid: give a simulated end time in (0, 1e6]";
+      },
+      "in (0, 1e6]");
   c->add_option("--t-end", args->t_end, "End time (overrides time.t_end; with --resume: extend)")
-      ->check(CLI::PositiveNumber);
+      ->check(t_end_range);
   c->callback([args] { run_cmd(*args); });
 }
 

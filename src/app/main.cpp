@@ -34,7 +34,9 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help / --version exit 0; every command-line error is "invalid input" (2), as documented.
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 2;
   } catch (const UserError& e) {
     std::cerr << "capflow: error: " << e.what() << "\n";
     return 2;

@@ -155,3 +155,23 @@ TEST(Signals, SigintWritesACheckpointAndAPlayableMovie) {
   EXPECT_NE(p.find("nb_read_frames=" + std::to_string(written)), std::string::npos) << p << log;
   fs::remove_all(d);
 }
+
+TEST(CommandLine, BadOptionValuesExitWithInvalidInput) {
+  const fs::path dir = test::fresh_dir("cli");
+  const fs::path control = dir / "c.json";
+  {
+    std::ofstream f(control);
+    f << R"({"ca": 0.3, "mesh": {"elements": 6, "nb": 6}, "time": {"dt": 0.01, "t_end": 0.02}})";
+  }
+  for (const char* bad : {"0", "-1", "abc", "2e6"}) {
+    const fs::path log = dir / "err.txt";
+    const pid_t pid = spawn({CAPFLOW_EXE, "run", control.string(), "--t-end", bad, "-o",
+                             (dir / "run").string()},
+                            log);
+    EXPECT_EQ(wait_exit(pid, 60), 2) << bad;
+    const std::string err = test::read_file(log);
+    EXPECT_NE(err.find("--t-end"), std::string::npos) << err;
+    EXPECT_NE(err.find("(0, 1e6]"), std::string::npos) << err;
+    EXPECT_FALSE(fs::exists(dir / "run")) << "a refused command line must not create the run";
+  }
+}
