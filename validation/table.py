@@ -195,6 +195,10 @@ def convergence_table(exe, reuse, only):
             continue
         rows.append((nb, e["D"], e, rdir))
     ref = rows[-1][1]
+    if ref is None:
+        print("Spectral convergence: the NB=%d reference run did not finish." % CONVERGENCE_NB[-1])
+        print()
+        return
     print("Spectral convergence (paper fig. 4): Skalak C=1, Ca=1.5, NE=%d, dt=%g, D at t=%g against" % (
         cfg["mesh"]["elements"], cfg["time"]["dt"], t_at))
     print("NB=%d (paper: D ~ 0.49, length +71 %%, width -41 %%; 2e-6 at NB=14):" % CONVERGENCE_NB[-1])
