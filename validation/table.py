@@ -3,7 +3,7 @@
 their run directory already holds a finished run and --reuse is given) and prints the markdown
 tables of docs/validation.md (section "dynamics").
 
-Usage: validation/table.py [--exe build/src/app/capflow] [--reuse] [--only NAME[,NAME...]]
+Usage: validation/table.py [--exe build/src/app/capflow] [--reuse | --no-run] [--only NAME[,NAME...]]
 
 Every figure comes from the run's own outputs: run.log (the "end" line: t, steps, wall, D, L,
 volume drift), steady.csv (the steady-state row), timeseries.csv (time series and inclination).
@@ -79,7 +79,7 @@ def ensure_run(exe, name, reuse, nb=None):
         path = rdir + ".json"
         with open(path, "w") as f:
             json.dump(cfg, f)
-    if reuse and end_line(rdir) is not None:
+    if reuse == "only" or (reuse and end_line(rdir) is not None):
         return rdir, cfg
     cmd = [exe, "run", path, "-o", rdir]
     print("validation/table.py: " + " ".join(cmd), file=sys.stderr, flush=True)
@@ -190,10 +190,11 @@ def convergence_table(exe, reuse, only):
     for nb in CONVERGENCE_NB:
         rdir, _ = ensure_run(exe, name, reuse, nb=nb)
         e = end_line(rdir)
-        if e is None:
+        last = series(rdir)[-1] if e is not None else None
+        if e is None or abs(last["t"] - t_at) > 1e-9:
             rows.append((nb, None, None, None))
             continue
-        rows.append((nb, e["D"], e, rdir))
+        rows.append((nb, last["D"], e, last))  # the CSV row has 10 digits, run.log 5
     ref = rows[-1][1]
     if ref is None:
         print("Spectral convergence: the NB=%d reference run did not finish." % CONVERGENCE_NB[-1])
@@ -205,12 +206,13 @@ def convergence_table(exe, reuse, only):
     print()
     print("| NB | D | L | S | relative difference to NB=%d | volume drift | wall |" % CONVERGENCE_NB[-1])
     print("|---|---|---|---|---|---|---|")
-    for nb, d, e, _ in rows:
+    for nb, d, e, last in rows:
         if d is None:
             print("| %d | did not finish | | | | | |" % nb)
             continue
         diff = "-" if nb == CONVERGENCE_NB[-1] else "%.1e" % (abs(d - ref) / abs(ref))
-        print("| %d | %.7f | %.5f | %.5f | %s | %.1e | %s |" % (nb, d, e["L"], e["S"], diff, e["drift"], fmt_wall(e["wall"])))
+        print("| %d | %.8f | %.6f | %.6f | %s | %.1e | %s |" % (
+            nb, d, last["L"], last["S"], diff, last["volume_drift"], fmt_wall(e["wall"])))
     print()
 
 
@@ -239,15 +241,18 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--exe", default=os.path.join(ROOT, "build/src/app/capflow"))
     ap.add_argument("--reuse", action="store_true", help="reuse finished runs in their run directories")
+    ap.add_argument("--no-run", action="store_true",
+                    help="run nothing: tabulate what the run directories hold (unfinished runs are reported so)")
     ap.add_argument("--only", default="", help="comma-separated run names")
     args = ap.parse_args()
     only = set(filter(None, args.only.split(",")))
+    reuse = "only" if args.no_run else args.reuse
     os.makedirs(os.path.join(ROOT, "runs", "validation"), exist_ok=True)
-    fig2_table(args.exe, args.reuse, only)
-    steady_table(args.exe, args.reuse, only)
-    convergence_table(args.exe, args.reuse, only)
-    strong_table(args.exe, args.reuse, only)
-    shear_table(args.exe, args.reuse, only)
+    fig2_table(args.exe, reuse, only)
+    steady_table(args.exe, reuse, only)
+    convergence_table(args.exe, reuse, only)
+    strong_table(args.exe, reuse, only)
+    shear_table(args.exe, reuse, only)
 
 
 if __name__ == "__main__":
