@@ -499,7 +499,7 @@ ParsedControl parse_control(const std::string& text, const std::string& source) 
         {"mesh.elements", std::to_string(o.mesh.elements) +
                               ": in planar extension the capsule's tips (+-x) lie in one cap "
                               "element, whose resolution limits volume conservation (Skalak "
-                              "Ca=0.45, NB=10, t=1: drift -8e-5 at NE=6, -1.2e-7 at NE=14); "
+                              "Ca=0.45, NB=8, t=1: drift -2e-4 at NE=6, -3.7e-7 at NE=14); "
                               "NE=14 (three rows along y) resolves the tips"});
   if (!o.numerics.smoothing)
     out.warnings.push_back({"numerics.smoothing", "false: without the membrane smoothing the "
