@@ -171,6 +171,18 @@ def shear_table(exe, reuse, only):
     print("|---|---|---|---|---|---|---|---|---|---|")
     for name, rdir, cfg, e, st, why in steady_runs(exe, reuse, only, SHEAR):
         ca = cfg["ca"]
+        if why and e is not None:
+            # No steady state (e.g. the compressive tensions of small Ca keep the shape
+            # fluctuating): mean and half-range over the last 5 time units.
+            rows = [r for r in series(rdir) if r["t"] >= e["t"] - 5.0]
+            def mr(key):
+                v = [r[key] for r in rows]
+                return sum(v) / len(v), (max(v) - min(v)) / 2
+            (d, dd), (incl, di) = mr("D"), mr("inclination_deg")
+            (l, _), (sm, _), (w, _) = mr("L"), mr("S"), mr("W")
+            print("| %g | %s | none by t=%.2f (%s); mean over the last 5: | %.4f +- %.4f | %.4f | %.4f | %.4f | %.2f +- %.2f | %.1e | %s |" % (
+                ca, resolution(cfg), e["t"], e["reason"], d, dd, l, sm, w, incl, di, e["drift"], fmt_wall(e["wall"])))
+            continue
         if why:
             print("| %g | %s | %s | | | | | | | |" % (ca, resolution(cfg), why))
             continue
