@@ -120,7 +120,12 @@ def steady_runs(exe, reuse, only, names):
         e, st = end_line(rdir), steady_row(rdir)
         why = None
         if e is None or st is None:
-            why = "no steady state by t=%.2f (%s)" % (e["t"], e["reason"]) if e else "did not finish"
+            if e:
+                why = "no steady state by t=%.2f (%s)" % (e["t"], e["reason"])
+            elif os.path.exists(os.path.join(rdir, "run.log")):
+                why = "did not finish"
+            else:
+                why = "not run"
         yield name, rdir, cfg, e, st, why
 
 
@@ -154,6 +159,12 @@ def strong_table(exe, reuse, only):
     paper = {name: (label, text) for name, label, text in STRONG}
     for name, rdir, cfg, e, st, why in steady_runs(exe, reuse, only, paper):
         label, text = paper[name]
+        if why and e is not None:
+            r = series(rdir)[-1]  # the last state, not steady
+            print("| %s | %s | %s | %s: last row t=%.2f | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f | %.3f | %.3f | %.1e | %s |" % (
+                label, resolution(cfg), text, why, r["t"], r["L"], r["S"], r["W"], r["Lc"], r["Sc"], r["Wc"],
+                r["edge_curvature"], r["tau_max"], r["volume_drift"], fmt_wall(e["wall"])))
+            continue
         if why:
             print("| %s | %s | %s | %s | | | | | | | | | | |" % (label, resolution(cfg), text, why))
             continue
