@@ -6,9 +6,9 @@
 // names the cause, time and location; the last good state is kept and checkpointed).
 #include <atomic>
 #include <csignal>
-#include <string>
 #include <iostream>
 #include <memory>
+#include <string>
 
 #include "app/commands.h"
 #include "app/simulation.h"

@@ -364,27 +364,22 @@ void nearest_point(const geometry::Mesh& mesh, const Matrix3Xd& x, int e, const 
   xt = p.xt;
 }
 
-// One quadrature point of a kernel sum, shared by the special rules and the far field (the
-// single layer's hot loops have their own vectorised copies: single_line, far_single).
-// r = x - x0; wj = weight * J; (nx, ny, nz) = weight * J * unit normal; (fx, fy, fz) the density
-// (Double: already minus u(x0)). Adds the point's contribution to s[0..2] (s[0..8] for the 3x3
-// matrix of DoubleNormal, column-major).
+// One quadrature point of a kernel sum for the identity checks and the double layer, shared by
+// the special rules and the far field (the single layer has its own vectorised loops:
+// single_line, far_single). r = x - x0; (nx, ny, nz) = weight * J * unit normal; (fx, fy, fz)
+// the density minus u(x0) (Double only). Adds the point's contribution to s0..s2 (s0..s8 for the
+// 3x3 matrix of DoubleNormal, column-major).
 template <BoundaryOperators::Mode M>
-[[gnu::always_inline]] inline void kernel_point(double rx, double ry, double rz, double wj,
-                                                double nx, double ny, double nz, double fx,
-                                                double fy, double fz, double& s0, double& s1,
-                                                double& s2, double& s3, double& s4, double& s5,
-                                                double& s6, double& s7, double& s8) {
+[[gnu::always_inline]] inline void kernel_point(double rx, double ry, double rz, double nx,
+                                                double ny, double nz, double fx, double fy,
+                                                double fz, double& s0, double& s1, double& s2,
+                                                double& s3, double& s4, double& s5, double& s6,
+                                                double& s7, double& s8) {
   using Mode = BoundaryOperators::Mode;
+  static_assert(M != Mode::Single, "the single layer uses single_line / far_single");
   const double ir = 1.0 / std::sqrt(rx * rx + ry * ry + rz * rz);
   const double ir3 = ir * ir * ir;
-  if constexpr (M == Mode::Single) {
-    const double rd = rx * fx + ry * fy + rz * fz;
-    const double a = wj * ir, b = wj * rd * ir3;
-    s0 += a * fx + b * rx;
-    s1 += a * fy + b * ry;
-    s2 += a * fz + b * rz;
-  } else if constexpr (M == Mode::SingleNormal) {
+  if constexpr (M == Mode::SingleNormal) {
     const double b = (rx * nx + ry * ny + rz * nz) * ir3;
     s0 += ir * nx + b * rx;
     s1 += ir * ny + b * ry;
@@ -584,83 +579,80 @@ void line_sum(int nb, int K, const LineRule& R, double sign, const Vector3d& x0,
                   R.dLoT.data() + p0, ld, R.w.data() + p0, l < n0 ? sign : -sign, x0.data(),
                   sc.v.data(), acc);
     }
-    return;
-  }
-  for (int l = 0; l < nl; ++l) {
-    const int p0 = R.start[l], m = R.start[l + 1] - p0;
-    if (m == 0) continue;
-    const double* A = sc.A.row(l).data();
-    const double* B = sc.B.row(l).data();
-    // 12 arrays of length m (stride ms): x(3), f(3), d/d(across)(3), d/d(along)(3)
-    const int ms = (m + 3) & ~3;
-    double* __restrict X0 = sc.v.data();
-    double* __restrict X1 = X0 + ms;
-    double* __restrict X2 = X0 + 2 * ms;
-    double* __restrict F0 = X0 + 3 * ms;
-    double* __restrict F1 = X0 + 4 * ms;
-    double* __restrict F2 = X0 + 5 * ms;
-    double* __restrict A0 = X0 + 6 * ms;
-    double* __restrict A1 = X0 + 7 * ms;
-    double* __restrict A2 = X0 + 8 * ms;
-    double* __restrict O0 = X0 + 9 * ms;
-    double* __restrict O1 = X0 + 10 * ms;
-    double* __restrict O2 = X0 + 11 * ms;
-    for (int p = 0; p < 9 * ms; ++p) X0[p] = 0.0;  // x, f (if K == 6), d/d(across)
-    for (int p = 9 * ms; p < 12 * ms; ++p) X0[p] = 0.0;
-    for (int j = 0; j < nb; ++j) {
-      const double* __restrict lo = R.LoT.data() + static_cast<long>(j) * ld + p0;
-      const double* __restrict dlo = R.dLoT.data() + static_cast<long>(j) * ld + p0;
-      const double c0 = A[j], c1 = A[nb + j], c2 = A[2 * nb + j];
-      const double d0 = B[j], d1 = B[nb + j], d2 = B[2 * nb + j];
-#pragma omp simd
-      for (int p = 0; p < m; ++p) {
-        X0[p] += c0 * lo[p];
-        X1[p] += c1 * lo[p];
-        X2[p] += c2 * lo[p];
-        A0[p] += d0 * lo[p];
-        A1[p] += d1 * lo[p];
-        A2[p] += d2 * lo[p];
-        O0[p] += c0 * dlo[p];
-        O1[p] += c1 * dlo[p];
-        O2[p] += c2 * dlo[p];
-      }
-      if (K == 6) {
-        const double e0 = A[3 * nb + j], e1 = A[4 * nb + j], e2 = A[5 * nb + j];
+  } else {
+    for (int l = 0; l < nl; ++l) {
+      const int p0 = R.start[l], m = R.start[l + 1] - p0;
+      if (m == 0) continue;
+      const double* A = sc.A.row(l).data();
+      const double* B = sc.B.row(l).data();
+      // 12 arrays of length m (stride ms): x(3), f(3), d/d(across)(3), d/d(along)(3)
+      const int ms = (m + 3) & ~3;
+      double* __restrict X0 = sc.v.data();
+      double* __restrict X1 = X0 + ms;
+      double* __restrict X2 = X0 + 2 * ms;
+      double* __restrict F0 = X0 + 3 * ms;
+      double* __restrict F1 = X0 + 4 * ms;
+      double* __restrict F2 = X0 + 5 * ms;
+      double* __restrict A0 = X0 + 6 * ms;
+      double* __restrict A1 = X0 + 7 * ms;
+      double* __restrict A2 = X0 + 8 * ms;
+      double* __restrict O0 = X0 + 9 * ms;
+      double* __restrict O1 = X0 + 10 * ms;
+      double* __restrict O2 = X0 + 11 * ms;
+      for (int p = 0; p < 9 * ms; ++p) X0[p] = 0.0;  // x, f (if K == 6), d/d(across)
+      for (int p = 9 * ms; p < 12 * ms; ++p) X0[p] = 0.0;
+      for (int j = 0; j < nb; ++j) {
+        const double* __restrict lo = R.LoT.data() + static_cast<long>(j) * ld + p0;
+        const double* __restrict dlo = R.dLoT.data() + static_cast<long>(j) * ld + p0;
+        const double c0 = A[j], c1 = A[nb + j], c2 = A[2 * nb + j];
+        const double d0 = B[j], d1 = B[nb + j], d2 = B[2 * nb + j];
 #pragma omp simd
         for (int p = 0; p < m; ++p) {
-          F0[p] += e0 * lo[p];
-          F1[p] += e1 * lo[p];
-          F2[p] += e2 * lo[p];
+          X0[p] += c0 * lo[p];
+          X1[p] += c1 * lo[p];
+          X2[p] += c2 * lo[p];
+          A0[p] += d0 * lo[p];
+          A1[p] += d1 * lo[p];
+          A2[p] += d2 * lo[p];
+          O0[p] += c0 * dlo[p];
+          O1[p] += c1 * dlo[p];
+          O2[p] += c2 * dlo[p];
+        }
+        if (K == 6) {
+          const double e0 = A[3 * nb + j], e1 = A[4 * nb + j], e2 = A[5 * nb + j];
+#pragma omp simd
+          for (int p = 0; p < m; ++p) {
+            F0[p] += e0 * lo[p];
+            F1[p] += e1 * lo[p];
+            F2[p] += e2 * lo[p];
+          }
         }
       }
-    }
-    // n = x_s x x_t: constant-s lines: x_s = Da, x_t = Do; constant-t lines: swapped.
-    const double sg = l < n0 ? sign : -sign;
-    const double* w = R.w.data() + p0;
-    double s0 = 0, s1 = 0, s2 = 0;
-    double s3 = 0, s4 = 0, s5 = 0, s6 = 0, s7 = 0, s8 = 0;
+      // n = x_s x x_t: constant-s lines: x_s = Da, x_t = Do; constant-t lines: swapped.
+      const double sg = l < n0 ? sign : -sign;
+      const double* w = R.w.data() + p0;
+      double s0 = 0, s1 = 0, s2 = 0;
+      double s3 = 0, s4 = 0, s5 = 0, s6 = 0, s7 = 0, s8 = 0;
 #pragma omp simd reduction(+ : s0, s1, s2, s3, s4, s5, s6, s7, s8)
-    for (int p = 0; p < m; ++p) {
-      const double nx = sg * (A1[p] * O2[p] - A2[p] * O1[p]);
-      const double ny = sg * (A2[p] * O0[p] - A0[p] * O2[p]);
-      const double nz = sg * (A0[p] * O1[p] - A1[p] * O0[p]);
-      const double wj = w[p] * std::sqrt(nx * nx + ny * ny + nz * nz);
-      const double fx = M == Mode::Double ? F0[p] - u0[0] : F0[p];
-      const double fy = M == Mode::Double ? F1[p] - u0[1] : F1[p];
-      const double fz = M == Mode::Double ? F2[p] - u0[2] : F2[p];
-      kernel_point<M>(X0[p] - x0[0], X1[p] - x0[1], X2[p] - x0[2], wj, w[p] * nx, w[p] * ny,
-                      w[p] * nz, fx, fy, fz, s0, s1, s2, s3, s4, s5, s6, s7, s8);
-    }
-    acc[0] += s0;
-    acc[1] += s1;
-    acc[2] += s2;
-    if constexpr (M == Mode::DoubleNormal) {
-      acc[3] += s3;
-      acc[4] += s4;
-      acc[5] += s5;
-      acc[6] += s6;
-      acc[7] += s7;
-      acc[8] += s8;
+      for (int p = 0; p < m; ++p) {
+        const double nx = sg * (A1[p] * O2[p] - A2[p] * O1[p]);
+        const double ny = sg * (A2[p] * O0[p] - A0[p] * O2[p]);
+        const double nz = sg * (A0[p] * O1[p] - A1[p] * O0[p]);
+        kernel_point<M>(X0[p] - x0[0], X1[p] - x0[1], X2[p] - x0[2], w[p] * nx, w[p] * ny,
+                        w[p] * nz, F0[p] - u0[0], F1[p] - u0[1], F2[p] - u0[2], s0, s1, s2, s3,
+                        s4, s5, s6, s7, s8);
+      }
+      acc[0] += s0;
+      acc[1] += s1;
+      acc[2] += s2;
+      if constexpr (M == Mode::DoubleNormal) {
+        acc[3] += s3;
+        acc[4] += s4;
+        acc[5] += s5;
+        acc[6] += s6;
+        acc[7] += s7;
+        acc[8] += s8;
+      }
     }
   }
 }
@@ -1004,35 +996,34 @@ void far_sum(const FarData& F, int q0, int q1, const Vector3d& x0, const Vector3
   if constexpr (M == Mode::Single) {
     far_single(F.d.row(0).data(), F.d.row(1).data(), F.d.row(2).data(), F.d.row(3).data(),
                F.d.row(4).data(), F.d.row(5).data(), F.d.row(9).data(), q0, q1, x0.data(), acc);
-    return;
-  }
-  const double* __restrict px = F.d.row(0).data();
-  const double* __restrict py = F.d.row(1).data();
-  const double* __restrict pz = F.d.row(2).data();
-  const double* __restrict fx = F.d.row(3).data();
-  const double* __restrict fy = F.d.row(4).data();
-  const double* __restrict fz = F.d.row(5).data();
-  const double* __restrict nx = F.d.row(6).data();
-  const double* __restrict ny = F.d.row(7).data();
-  const double* __restrict nz = F.d.row(8).data();
-  const double* __restrict wj = F.d.row(9).data();
-  const double X0 = x0[0], X1 = x0[1], X2 = x0[2];
-  const double U0 = u0[0], U1 = u0[1], U2 = u0[2];
-  double s0 = 0, s1 = 0, s2 = 0, s3 = 0, s4 = 0, s5 = 0, s6 = 0, s7 = 0, s8 = 0;
+  } else {
+    const double* __restrict px = F.d.row(0).data();
+    const double* __restrict py = F.d.row(1).data();
+    const double* __restrict pz = F.d.row(2).data();
+    const double* __restrict fx = F.d.row(3).data();
+    const double* __restrict fy = F.d.row(4).data();
+    const double* __restrict fz = F.d.row(5).data();
+    const double* __restrict nx = F.d.row(6).data();
+    const double* __restrict ny = F.d.row(7).data();
+    const double* __restrict nz = F.d.row(8).data();
+    const double X0 = x0[0], X1 = x0[1], X2 = x0[2];
+    const double U0 = u0[0], U1 = u0[1], U2 = u0[2];
+    double s0 = 0, s1 = 0, s2 = 0, s3 = 0, s4 = 0, s5 = 0, s6 = 0, s7 = 0, s8 = 0;
 #pragma omp simd reduction(+ : s0, s1, s2, s3, s4, s5, s6, s7, s8)
-  for (int q = q0; q < q1; ++q)
-    kernel_point<M>(px[q] - X0, py[q] - X1, pz[q] - X2, wj[q], nx[q], ny[q], nz[q],
-                    fx[q] - U0, fy[q] - U1, fz[q] - U2, s0, s1, s2, s3, s4, s5, s6, s7, s8);
-  acc[0] += s0;
-  acc[1] += s1;
-  acc[2] += s2;
-  if constexpr (M == Mode::DoubleNormal) {
-    acc[3] += s3;
-    acc[4] += s4;
-    acc[5] += s5;
-    acc[6] += s6;
-    acc[7] += s7;
-    acc[8] += s8;
+    for (int q = q0; q < q1; ++q)
+      kernel_point<M>(px[q] - X0, py[q] - X1, pz[q] - X2, nx[q], ny[q], nz[q], fx[q] - U0,
+                      fy[q] - U1, fz[q] - U2, s0, s1, s2, s3, s4, s5, s6, s7, s8);
+    acc[0] += s0;
+    acc[1] += s1;
+    acc[2] += s2;
+    if constexpr (M == Mode::DoubleNormal) {
+      acc[3] += s3;
+      acc[4] += s4;
+      acc[5] += s5;
+      acc[6] += s6;
+      acc[7] += s7;
+      acc[8] += s8;
+    }
   }
 }
 }  // namespace

@@ -66,7 +66,8 @@ struct QuadratureOptions {
   // deformed shapes (tests/stokes/test_stokes_accuracy.cpp: <= 2.5e-8 relative at NE=6 NB=10).
   int nq_far = 0;         // Gauss-Legendre per direction on far elements; 0 -> nb + 3
   int nq_mid = 0;         // ... on elements at near_factor..mid_factor sizes; 0 -> 2 nb + 4
-  int n_edge = 0;         // own element: points along the edge coordinate; 0 -> 2 nb (3 nb if an element is > 2:1)
+  int n_edge = 0;         // own element: points along the edge coordinate; 0 -> 2 nb
+                          // (3 nb if some element is longer than 2:1, as the NE=14 rows)
   int n_radial = 0;       // own element: points along each ray; 0 -> nb + 4
   int n_edge_near = 0;    // near elements: along the edge; 0 -> nb + 2 (2 nb if > 2:1)
   int n_radial_near = 0;  // near elements: sinh panel [0, near_split] of each ray; 0 -> nb
