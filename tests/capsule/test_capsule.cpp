@@ -9,6 +9,7 @@
 #include "capsule/health.h"
 #include "geometry/shapes.h"
 #include "spectral/spectral.h"
+#include "../membrane/membrane_test_util.h"
 
 using namespace capflow;
 using namespace capflow::capsule;
@@ -142,14 +143,7 @@ TEST(Capsule, MembraneLoadIsForceAndTorqueFreeWithTheSmoothedTangents) {
   // the conservative form telescopes: INT f dS vanishes to round-off on ANY shape, not only on
   // mirror-symmetric ones (with each element's own Lagrange tangents it is only exponentially
   // small: tests/membrane, MembraneValidation.ForceAndTorqueBalanceConvergeInNB).
-  const Eigen::Matrix3d R =
-      Eigen::AngleAxisd(0.4, Eigen::Vector3d(1.0, 2.0, 3.0).normalized()).toRotationMatrix();
-  const geometry::PointMap skew = [R](const Eigen::Vector3d& p) {
-    const double X = p.x(), Y = p.y(), Z = p.z();
-    const Eigen::Vector3d q(1.3 * X + 0.15 * Y * Z + 0.1 * X * X, 0.85 * Y + 0.12 * X * X - 0.05 * Z,
-                            0.95 * Z + 0.1 * X * Y + 0.08 * Y * Y * Y);
-    return Eigen::Vector3d(R * q + Eigen::Vector3d(0.3, -0.2, 0.1));
-  };
+  const geometry::PointMap skew = membrane::testing::skew_map();
   for (int ne : {6, 10, 14})
     for (const membrane::LawKind kind :
          {membrane::LawKind::Skalak, membrane::LawKind::NeoHookean, membrane::LawKind::MooneyRivlin}) {
