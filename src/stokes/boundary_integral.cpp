@@ -404,6 +404,23 @@ template <BoundaryOperators::Mode M>
   }
 }
 
+// Adds the sums of kernel_point to the accumulator (9 entries for DoubleNormal, else 3).
+template <BoundaryOperators::Mode M>
+inline void add_sums(double* acc, double s0, double s1, double s2, double s3, double s4,
+                     double s5, double s6, double s7, double s8) {
+  acc[0] += s0;
+  acc[1] += s1;
+  acc[2] += s2;
+  if constexpr (M == BoundaryOperators::Mode::DoubleNormal) {
+    acc[3] += s3;
+    acc[4] += s4;
+    acc[5] += s5;
+    acc[6] += s6;
+    acc[7] += s7;
+    acc[8] += s8;
+  }
+}
+
 // Far-field data at the Gauss points, row-major rows:
 // 0-2 x, 3-5 density (Single: times w J), 6-8 w (x_xi x x_eta), 9 w J.
 struct FarData {
@@ -642,17 +659,7 @@ void line_sum(int nb, int K, const LineRule& R, double sign, const Vector3d& x0,
                         w[p] * nz, F0[p] - u0[0], F1[p] - u0[1], F2[p] - u0[2], s0, s1, s2, s3,
                         s4, s5, s6, s7, s8);
       }
-      acc[0] += s0;
-      acc[1] += s1;
-      acc[2] += s2;
-      if constexpr (M == Mode::DoubleNormal) {
-        acc[3] += s3;
-        acc[4] += s4;
-        acc[5] += s5;
-        acc[6] += s6;
-        acc[7] += s7;
-        acc[8] += s8;
-      }
+      add_sums<M>(acc, s0, s1, s2, s3, s4, s5, s6, s7, s8);
     }
   }
 }
@@ -1013,17 +1020,7 @@ void far_sum(const FarData& F, int q0, int q1, const Vector3d& x0, const Vector3
     for (int q = q0; q < q1; ++q)
       kernel_point<M>(px[q] - X0, py[q] - X1, pz[q] - X2, nx[q], ny[q], nz[q], fx[q] - U0,
                       fy[q] - U1, fz[q] - U2, s0, s1, s2, s3, s4, s5, s6, s7, s8);
-    acc[0] += s0;
-    acc[1] += s1;
-    acc[2] += s2;
-    if constexpr (M == Mode::DoubleNormal) {
-      acc[3] += s3;
-      acc[4] += s4;
-      acc[5] += s5;
-      acc[6] += s6;
-      acc[7] += s7;
-      acc[8] += s8;
-    }
+    add_sums<M>(acc, s0, s1, s2, s3, s4, s5, s6, s7, s8);
   }
 }
 }  // namespace
