@@ -140,12 +140,7 @@ struct Simulation::Impl {
   void build_solver() {
     if (opt.numerics.threads > 0) omp_set_num_threads(opt.numerics.threads);
     mesh = std::make_unique<geometry::Mesh>(opt.mesh.elements, opt.mesh.nb);
-    capsule::DynamicsOptions d;
-    d.viscosity_ratio = opt.viscosity_ratio;
-    d.smooth_geometry = d.smooth_traction = opt.numerics.smoothing;
-    d.volume_correction = opt.numerics.volume_correction;
-    d.symmetry = opt.numerics.symmetry ? capsule::SymmetryChoice::Auto : capsule::SymmetryChoice::None;
-    cap = std::make_unique<capsule::Capsule>(*mesh, opt.law, opt.flow, d);
+    cap = std::make_unique<capsule::Capsule>(*mesh, opt.law, opt.flow, control::dynamics_options(opt));
     health = std::make_unique<capsule::HealthMonitor>(*mesh, cap->positions());
     schedule = std::make_unique<control::CaScheduler>(opt.ca, opt.steady, 0.0);
   }

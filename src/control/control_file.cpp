@@ -313,6 +313,15 @@ ControlError::ControlError(const std::string& source, std::vector<ControlIssue> 
       }()),
       issues_(std::move(issues)) {}
 
+capsule::DynamicsOptions dynamics_options(const ControlOptions& o) {
+  capsule::DynamicsOptions d;
+  d.viscosity_ratio = o.viscosity_ratio;
+  d.smooth_geometry = d.smooth_traction = o.numerics.smoothing;
+  d.volume_correction = o.numerics.volume_correction;
+  d.symmetry = o.numerics.symmetry ? capsule::SymmetryChoice::Auto : capsule::SymmetryChoice::None;
+  return d;
+}
+
 double min_node_spacing(int elements, int nb) {
   const geometry::Mesh mesh(elements, nb);
   double d = std::numeric_limits<double>::infinity();

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "capsule/capsule.h"
 #include "control/options.h"
 
 namespace capflow::control {
@@ -43,6 +44,9 @@ ParsedControl load_control_file(const std::string& path);
 
 // The effective control file (every key with its value, defaults filled in), as JSON text.
 std::string to_json_text(const ControlOptions& options);
+
+// The solver options a control file asks for (capsule::Capsule's constructor argument).
+capsule::DynamicsOptions dynamics_options(const ControlOptions& options);
 
 // Smallest node spacing of the reference mesh (for the time-step warning).
 double min_node_spacing(int elements, int nb);
