@@ -31,6 +31,8 @@ STRONG = [
     ("strong_nh_ca040", "neo-Hookean, Ca=0.4 from rest", "steady, semi-length L ~ 3 (t=40)"),
 ]
 SHEAR = ["shear_nh_ca00375", "shear_nh_ca0075", "shear_nh_ca015", "shear_nh_ca03", "shear_nh_ca06"]
+DRIFT_NB_RUN = "skalak_ca045"
+DRIFT_NB = [10, 12, 14]
 CONVERGENCE_NB = [8, 9, 10, 11, 12, 13, 14, 15]
 
 
@@ -66,15 +68,18 @@ def end_line(rdir):
     return out
 
 
-def ensure_run(exe, name, reuse, nb=None):
-    """Runs validation/NAME.json (with mesh.nb = nb and a run directory suffixed _nbNB if nb is
-    given: the variant's control file is written next to its run directory) unless --reuse and
-    the run directory already holds a finished run. Returns the run directory and the control."""
+def ensure_run(exe, name, reuse, nb=None, t_end=None):
+    """Runs validation/NAME.json (with mesh.nb = nb, and time.t_end = t_end if given, in a run
+    directory suffixed _nbNB if nb is given: the variant's control file is written next to its
+    run directory) unless --reuse and the run directory already holds a finished run. Returns the
+    run directory and the control."""
     rdir, cfg = run_dir(name)
     path = control(name)
     if nb is not None:
         rdir += "_nb%d" % nb
         cfg["mesh"]["nb"] = nb
+        if t_end is not None:
+            cfg["time"]["t_end"] = t_end
         cfg["output"]["dir"] = os.path.relpath(rdir, ROOT)
         path = rdir + ".json"
         with open(path, "w") as f:
@@ -239,12 +244,55 @@ def convergence_table(exe, reuse, only):
     print()
 
 
+def drift_table(exe, reuse, only):
+    """Volume drift against NB for the first steady-state run (NE=14): the NB variants run to
+    t=2; the base run's own NB is read from its (longer) run."""
+    base = DRIFT_NB_RUN
+    if (only and base not in only) or not os.path.exists(control(base)):
+        return
+    _, cfg0 = run_dir(base)
+    print("Volume drift against NB (%s, %s, dt=%g; relative drift read from timeseries.csv):" % (
+        dict((n, l) for n, l, _, _ in STEADY)[base], "NE=%d" % cfg0["mesh"]["elements"], cfg0["time"]["dt"]))
+    print()
+    print("| NB | drift t=0.5 | drift t=1 | drift t=2 | D at t=2 | wall to t=2 |")
+    print("|---|---|---|---|---|---|")
+    for nb in DRIFT_NB:
+        if nb == cfg0["mesh"]["nb"]:
+            rdir, _ = ensure_run(exe, base, reuse)
+        else:
+            rdir, _ = ensure_run(exe, base, reuse, nb=nb, t_end=2.0)
+        try:
+            rows = series(rdir)
+        except OSError:
+            print("| %d | not run | | | | |" % nb)
+            continue
+
+        def at(t):
+            r = min(rows, key=lambda r: abs(r["t"] - t))
+            return r if abs(r["t"] - t) < 1e-6 else None
+        r05, r1, r2 = at(0.5), at(1.0), at(2.0)
+        cell = lambda r: "%.1e" % r["volume_drift"] if r else "-"
+        print("| %d | %s | %s | %s | %s | %s |" % (nb, cell(r05), cell(r1), cell(r2),
+              "%.5f" % r2["D"] if r2 else "-", fmt_wall(r2["wall_s"]) if r2 else "-"))
+    print()
+
+
+def corrected_note(e):
+    """D, L of the uncorrected fig. 2b run at the end time of a volume-corrected one."""
+    try:
+        rows = series(run_dir("fig2_smoothing")[0])
+    except OSError:
+        return "volume corrected (eq. 23); uncorrected run missing"
+    r = min(rows, key=lambda r: abs(r["t"] - e["t"]))
+    return "volume corrected (eq. 23); uncorrected at t=%.2f: D %.4f, L %.4f" % (r["t"], r["D"], r["L"])
+
+
 def fig2_table(exe, reuse, only):
     print("Paper fig. 2b: Skalak C=1, Ca=0.35, with smoothing, to t=10 (stability and volume drift):")
     print()
     print("| run | resolution | reached | D, L at the end | volume drift | wall | verdict |")
     print("|---|---|---|---|---|---|---|")
-    for name in ["fig2_smoothing", "fig2_smoothing_ne14"]:
+    for name in ["fig2_smoothing", "fig2_volume_correction"]:
         if (only and name not in only) or not os.path.exists(control(name)):
             continue
         rdir, cfg = ensure_run(exe, name, reuse)
@@ -253,7 +301,9 @@ def fig2_table(exe, reuse, only):
             print("| %s | %s | did not finish | | | | FAIL |" % (name, resolution(cfg)))
             continue
         reached = e["t"] >= cfg["time"]["t_end"] - 1e-9
+        corrected = cfg.get("numerics", {}).get("volume_correction", False)
         verdict = ("stable PASS" if reached else "FAIL (%s)" % e["reason"]) + "; " + (
+            corrected_note(e) if corrected else
             "drift PASS" if abs(e["drift"]) <= 1e-6 else "drift FAIL (1e-6)")
         print("| %s | %s | t=%.2f (%s) | %.4f, %.4f | %.1e | %s | %s |" % (
             name, resolution(cfg), e["t"], e["reason"], e["D"], e["L"], e["drift"], fmt_wall(e["wall"]), verdict))
@@ -273,6 +323,7 @@ def main():
     os.makedirs(os.path.join(ROOT, "runs", "validation"), exist_ok=True)
     fig2_table(args.exe, reuse, only)
     steady_table(args.exe, reuse, only)
+    drift_table(args.exe, reuse, only)
     convergence_table(args.exe, reuse, only)
     strong_table(args.exe, reuse, only)
     shear_table(args.exe, reuse, only)
