@@ -29,6 +29,7 @@ STEADY = [
 STRONG = [
     ("strong_skalak_ca125", "Skalak C=1, Ca=1.25 from rest", "stable steady state (t=30 in the paper)"),
     ("strong_nh_ca040", "neo-Hookean, Ca=0.4 from rest", "steady, semi-length L ~ 3 (t=40)"),
+    ("strong_nh_ca040_volcorr", "neo-Hookean, Ca=0.4 from rest, volume correction (eq. 23)", "steady, semi-length L ~ 3 (t=40)"),
 ]
 SHEAR = ["shear_nh_ca00375", "shear_nh_ca0075", "shear_nh_ca015", "shear_nh_ca03", "shear_nh_ca06"]
 DRIFT_NB_RUN = "skalak_ca045"
@@ -246,7 +247,8 @@ def convergence_table(exe, reuse, only):
 
 def drift_table(exe, reuse, only):
     """Volume drift against NB for the first steady-state run (NE=14): the NB variants run to
-    t=2; the base run's own NB is read from its (longer) run."""
+    t=2 (a variant's run directory continued to its steady state with `capflow run --resume DIR
+    --t-end 20` also gives the last column); the base run's own NB is read from its run."""
     base = DRIFT_NB_RUN
     if (only and base not in only) or not os.path.exists(control(base)):
         return
@@ -254,8 +256,8 @@ def drift_table(exe, reuse, only):
     print("Volume drift against NB (%s, %s, dt=%g; relative drift read from timeseries.csv):" % (
         dict((n, l) for n, l, _, _ in STEADY)[base], "NE=%d" % cfg0["mesh"]["elements"], cfg0["time"]["dt"]))
     print()
-    print("| NB | drift t=0.5 | drift t=1 | drift t=2 | D at t=2 | wall to t=2 |")
-    print("|---|---|---|---|---|---|")
+    print("| NB | drift t=0.5 | drift t=1 | drift t=2 | D at t=2 | wall to t=2 | drift at steady state (t) |")
+    print("|---|---|---|---|---|---|---|")
     for nb in DRIFT_NB:
         if nb == cfg0["mesh"]["nb"]:
             rdir, _ = ensure_run(exe, base, reuse)
@@ -264,7 +266,7 @@ def drift_table(exe, reuse, only):
         try:
             rows = series(rdir)
         except OSError:
-            print("| %d | not run | | | | |" % nb)
+            print("| %d | not run | | | | | |" % nb)
             continue
 
         def at(t):
@@ -272,8 +274,10 @@ def drift_table(exe, reuse, only):
             return r if abs(r["t"] - t) < 1e-6 else None
         r05, r1, r2 = at(0.5), at(1.0), at(2.0)
         cell = lambda r: "%.1e" % r["volume_drift"] if r else "-"
-        print("| %d | %s | %s | %s | %s | %s |" % (nb, cell(r05), cell(r1), cell(r2),
-              "%.5f" % r2["D"] if r2 else "-", fmt_wall(r2["wall_s"]) if r2 else "-"))
+        e, st = end_line(rdir), steady_row(rdir)
+        steady = "%.1e (t=%.2f)" % (e["drift"], e["t"]) if e and st else "not run to steady state"
+        print("| %d | %s | %s | %s | %s | %s | %s |" % (nb, cell(r05), cell(r1), cell(r2),
+              "%.5f" % r2["D"] if r2 else "-", fmt_wall(r2["wall_s"]) if r2 else "-", steady))
     print()
 
 
