@@ -203,6 +203,22 @@ TEST(ControlFile, PlanarExtensionOffTheTipResolvingMeshWarns) {
   EXPECT_FALSE(warns(R"({"ca": 0.45, "mesh": {"elements": 6}, "flow": {"type": "simple-shear"}})"));
 }
 
+TEST(ControlFile, NumericsMapToTheSolverOptions) {
+  const capflow::capsule::DynamicsOptions d = dynamics_options(parse_control(kMinimal).options);
+  EXPECT_TRUE(d.smooth_geometry);
+  EXPECT_TRUE(d.smooth_traction);
+  EXPECT_FALSE(d.volume_correction);
+  EXPECT_EQ(d.symmetry, capflow::capsule::SymmetryChoice::Auto);
+  EXPECT_EQ(d.viscosity_ratio, 1.0);
+  const capflow::capsule::DynamicsOptions e = dynamics_options(parse_control(
+      R"({"ca": 0.45, "numerics": {"smoothing": false, "volume_correction": true, "symmetry": false}})")
+                                                                    .options);
+  EXPECT_FALSE(e.smooth_geometry);
+  EXPECT_FALSE(e.smooth_traction);
+  EXPECT_TRUE(e.volume_correction);
+  EXPECT_EQ(e.symmetry, capflow::capsule::SymmetryChoice::None);
+}
+
 TEST(ControlFile, EffectiveFileRoundTrips) {
   const ParsedControl p = parse_control(R"({"ca": [{"ca": 0.45, "hold": "steady"},
       {"steps": {"to": 1.0, "by": 0.25, "hold": 2}}], "mesh": {"elements": 6, "nb": 9},
