@@ -53,6 +53,17 @@ void BM_Velocity(benchmark::State& st) {
   for (auto _ : st) benchmark::DoNotOptimize(s.cap.velocity(s.cap.positions(), kCa));
 }
 
+// The same velocity with the far Gauss order of before 2026-12-02 (nb + 3 instead of the
+// default (3nb+19)/2): what the higher far order costs, measured in the same run.
+void BM_VelocityFarNb3(benchmark::State& st) {
+  Setup& s = setup(static_cast<int>(st.range(0)), static_cast<int>(st.range(1)));
+  omp_set_num_threads(static_cast<int>(st.range(2)));
+  capsule::DynamicsOptions o;
+  o.quadrature.nq_far = s.mesh.nb() + 3;
+  const capsule::Capsule cap(s.mesh, membrane::LawOptions{}, capsule::Flow::planar_extension(), o);
+  for (auto _ : st) benchmark::DoNotOptimize(cap.velocity(s.cap.positions(), kCa));
+}
+
 void BM_Traction(benchmark::State& st) {
   Setup& s = setup(static_cast<int>(st.range(0)), static_cast<int>(st.range(1)));
   omp_set_num_threads(static_cast<int>(st.range(2)));
@@ -68,5 +79,6 @@ void args(benchmark::internal::Benchmark* b) {
 
 BENCHMARK(BM_Step)->Apply(args);
 BENCHMARK(BM_Velocity)->Apply(args);
+BENCHMARK(BM_VelocityFarNb3)->Apply(args);
 BENCHMARK(BM_Traction)->Apply(args);
 BENCHMARK_MAIN();

@@ -747,7 +747,13 @@ BoundaryOperators::BoundaryOperators(const geometry::Mesh& mesh, QuadratureOptio
     : mesh_(mesh), opt_(options) {
   const int nb = mesh.nb();
   if (nb > kMaxNb) throw std::invalid_argument("BoundaryOperators: nb too large");
-  if (opt_.nq_far <= 0) opt_.nq_far = nb + 3;
+  // Far order: a capsule's traction carries its full degree nb-1 (it comes from second
+  // derivatives of the geometry), so f J is of degree ~3(nb-1) on an element; Gauss with
+  // (3nb+19)/2 points integrates that exactly with ~10 points to spare for the kernel. nb + 3
+  // (enough for the smooth densities of the sphere identities) left a quarter of the fig. 2b
+  // steady-state volume leak and two thirds of the NH Ca=0.4 one at t=17.4
+  // (benchmarks/capsule/volume_flux --far-scale; docs/validation.md, Milestone 3).
+  if (opt_.nq_far <= 0) opt_.nq_far = (3 * nb + 19) / 2;
   if (opt_.nq_mid <= 0) opt_.nq_mid = 2 * nb + 4;
   // Elongated elements (NE=14 rows: 30 x 90 degrees) stretch the sinh-mapped edge coordinate
   // over a longer physical length; with the square-element orders their next-to-edge nodes miss
@@ -1270,6 +1276,23 @@ Matrix3Xd BoundaryOperators::single_layer_gauss(const geometry::Mesh& mesh, cons
     out.col(k) = acc;
   }
   return out;
+}
+
+QuadratureOptions scale_orders(const QuadratureOptions& resolved, const OrderScales& k) {
+  if (resolved.nq_far <= 0 || resolved.n_edge <= 0 || resolved.n_edge_near <= 0)
+    throw std::invalid_argument("scale_orders: options must be resolved (BoundaryOperators::options())");
+  if (!(k.far > 0 && k.own > 0 && k.near > 0 && k.mid >= 0))
+    throw std::invalid_argument("scale_orders: factors must be positive");
+  QuadratureOptions q = resolved;
+  auto up = [](int& n, double f) { n = std::max(2, static_cast<int>(std::lround(n * f))); };
+  up(q.nq_far, k.far);
+  up(q.nq_mid, k.mid > 0 ? k.mid : k.far);
+  up(q.n_edge, k.own);
+  up(q.n_radial, k.own);
+  up(q.n_edge_near, k.near);
+  up(q.n_radial_near, k.near);
+  up(q.n_radial_near_out, k.near);
+  return q;
 }
 
 }  // namespace capflow::stokes

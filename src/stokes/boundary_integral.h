@@ -64,7 +64,7 @@ struct QuadratureOptions {
   // Defaults measured on the unit sphere (NE=6/10/14, NB=12/16: 1e-8 in INT S.n dS and
   // INT T.n dS at interior and next-to-edge nodes) and against a high-order reference on
   // deformed shapes (tests/stokes/test_stokes_accuracy.cpp: <= 2.5e-8 relative at NE=6 NB=10).
-  int nq_far = 0;         // Gauss-Legendre per direction on far elements; 0 -> nb + 3
+  int nq_far = 0;         // Gauss-Legendre per direction on far elements; 0 -> (3nb+19)/2
   int nq_mid = 0;         // ... on elements at near_factor..mid_factor sizes; 0 -> 2 nb + 4
   int n_edge = 0;         // own element: points along the edge coordinate; 0 -> 2 nb
                           // (3 nb if some element is longer than 2:1, as the NE=14 rows)
@@ -81,6 +81,15 @@ struct QuadratureOptions {
   double own_tolerance = 0.0;
   bool interpolate_jf = false;  // single layer: interpolate J f (faster, less accurate)
 };
+
+// Factors on the quadrature orders of resolved options (BoundaryOperators::options()): far
+// Gauss order, own-element orders, near-element orders, mid Gauss order (<= 0: as far); each
+// order rounded, at least 2. A reference for accuracy studies is scale_orders(ops.options(),
+// {3, 3, 3}).
+struct OrderScales {
+  double far = 1.0, own = 1.0, near = 1.0, mid = 0.0;
+};
+QuadratureOptions scale_orders(const QuadratureOptions& resolved, const OrderScales& k);
 
 // Counts of the last call (kernel evaluations = source points x targets).
 struct OperatorStats {

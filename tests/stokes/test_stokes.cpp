@@ -181,3 +181,38 @@ TEST(StokesApi, SubsetPointsAndGauss) {
     for (int k = 0; k < 4; ++k) EXPECT_NEAR(v(j, k), 16 * kPi / 3, 1e-4) << j << " " << k;
   }
 }
+
+// scale_orders multiplies the resolved orders per tier; with every order tripled, the on-surface
+// point path (near rules with h = 0) agrees with the node path's own-element rules at the nodes:
+// two different quadratures of the same weakly singular integral meeting at the reference level.
+TEST(StokesApi, ScaledOrdersMakeThePointPathAReference) {
+  geometry::Mesh mesh(6, 10);
+  const stokes::BoundaryOperators op(mesh);
+  const stokes::QuadratureOptions& r = op.options();
+  const stokes::QuadratureOptions q = stokes::scale_orders(r, {2.0, 1.5, 3.0});
+  EXPECT_EQ(q.nq_far, 2 * r.nq_far);
+  EXPECT_EQ(q.nq_mid, 2 * r.nq_mid);
+  EXPECT_EQ(q.n_edge, static_cast<int>(std::lround(1.5 * r.n_edge)));
+  EXPECT_EQ(q.n_radial, static_cast<int>(std::lround(1.5 * r.n_radial)));
+  EXPECT_EQ(q.n_edge_near, 3 * r.n_edge_near);
+  EXPECT_EQ(q.n_radial_near, 3 * r.n_radial_near);
+  EXPECT_EQ(q.n_radial_near_out, 3 * r.n_radial_near_out);
+  EXPECT_EQ(q.near_factor, r.near_factor);
+  EXPECT_THROW(stokes::scale_orders(stokes::QuadratureOptions{}, {}), std::invalid_argument);
+  EXPECT_THROW(stokes::scale_orders(r, {1.0, 0.0, 1.0}), std::invalid_argument);
+
+  const Matrix3Xd x = geometry::map_points(mesh.reference(), geometry::ellipsoid_map(1.6, 0.7, 1.0));
+  Matrix3Xd f(3, mesh.num_local());
+  for (int m = 0; m < mesh.num_local(); ++m)
+    f.col(m) = Vector3d(std::sin(x(0, m)), x(1, m) * x(2, m), std::exp(0.3 * x(0, m)));
+  const Matrix3Xd nodes = op.single_layer(x, f);
+  const stokes::BoundaryOperators ref(mesh, stokes::scale_orders(r, {3, 3, 3}));
+  const Matrix3Xd at = ref.single_layer_at(x, f, x);
+  const Matrix3Xd crude = op.single_layer_at(x, f, x);
+  const double scale = nodes.cwiseAbs().maxCoeff();
+  const double err_ref = (at - nodes).cwiseAbs().maxCoeff() / scale;
+  const double err_crude = (crude - nodes).cwiseAbs().maxCoeff() / scale;
+  std::printf("on-surface point path vs node path at the nodes: x3 orders %.2e, defaults %.2e\n",
+              err_ref, err_crude);
+  EXPECT_LT(err_ref, 1e-7);
+}
