@@ -37,6 +37,7 @@
 #include <vector>
 
 #include "app/commands.h"
+#include "app/render_flags.h"
 #include "app/figure_data.h"
 #include "control/control_file.h"
 #include "membrane/law.h"
@@ -49,6 +50,13 @@ namespace {
 namespace fs = std::filesystem;
 using figures::Table;
 
+RenderFlags figure_view_flags() {
+  RenderFlags f;
+  f.width = 1200;
+  f.height = 900;
+  return f;
+}
+
 struct FigureCmd {
   std::vector<std::string> runs;
   std::string out = "figures";
@@ -57,9 +65,7 @@ struct FigureCmd {
   std::vector<std::string> labels;
   std::string vector = "svg";
   bool no_png = false, no_gnuplot = false;
-  int width = 1200, height = 900;
-  std::string backend = "auto", field = "max", colormap = "viridis";
-  std::vector<double> range;
+  RenderFlags view = figure_view_flags();  // the 3-D views
 };
 
 struct Run {
@@ -540,20 +546,7 @@ std::vector<std::pair<double, std::string>> frames_with_times(const Run& run, st
 void view_figures(Context& cx, const std::vector<Run>& runs) {
   using namespace capflow::render;
   RenderOptions o;
-  o.width = cx.cmd.width;
-  o.height = cx.cmd.height;
-  if (!parse_field(cx.cmd.field, &o.field))
-    throw UserError("--field: unknown '" + cx.cmd.field + "'");
-  if (!parse_colormap(cx.cmd.colormap, &o.colormap))
-    throw UserError("--colormap: unknown '" + cx.cmd.colormap + "'");
-  if (!parse_backend(cx.cmd.backend, &o.backend))
-    throw UserError("--backend: unknown '" + cx.cmd.backend + "'");
-  if (!cx.cmd.range.empty()) {
-    if (cx.cmd.range.size() != 2) throw UserError("--range needs MIN,MAX");
-    o.auto_range = false;
-    o.range_min = cx.cmd.range[0];
-    o.range_max = cx.cmd.range[1];
-  }
+  apply_render_flags(cx.cmd.view, &o);
   o.png = o.mp4 = false;
   std::string err;
   if (!o.IsValid(&err)) throw UserError(err);
@@ -715,14 +708,7 @@ void setup(CLI::App& root) {
   sub->add_option("--vector", c->vector, "vector format: svg | pdf");
   sub->add_flag("--no-png", c->no_png, "no PNG beside the vector image");
   sub->add_flag("--no-gnuplot", c->no_gnuplot, "write the .gp/.dat files without running gnuplot");
-  sub->add_option("--width", c->width, "3-D view width (px, even)");
-  sub->add_option("--height", c->height, "3-D view height (px, even)");
-  sub->add_option("--field", c->field, "3-D view colour: max | min | mean | plain");
-  sub->add_option("--colormap", c->colormap, "viridis | coolwarm");
-  sub->add_option("--range", c->range, "fixed colour range MIN,MAX (default automatic)")
-      ->delimiter(',')
-      ->allow_extra_args(false);
-  sub->add_option("--backend", c->backend, "auto | egl | osmesa");
+  add_render_flags(sub, &c->view, "3-D view ");
   sub->callback([c] { set_exit_code(run(*c)); });
 }
 

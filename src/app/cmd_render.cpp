@@ -13,6 +13,7 @@
 #include <string>
 
 #include "app/commands.h"
+#include "app/render_flags.h"
 #include "geometry/mesh.h"
 #include "geometry/shapes.h"
 #include "geometry/surface.h"
@@ -24,12 +25,12 @@ namespace {
 
 struct RenderCmd {
   int ne = 10, nb = 12;
-  std::string shape = "ellipsoid", demo = "stretch", field = "max", view = "oblique",
-              colormap = "viridis", backend = "auto", out = "capflow.png";
-  std::vector<double> ellipsoid{1.8, 0.7, 1.0}, range, eye, target, up;
+  std::string shape = "ellipsoid", demo = "stretch", view = "oblique", out = "capflow.png";
+  std::vector<double> ellipsoid{1.8, 0.7, 1.0}, eye, target, up;
   double fov = 30;
   bool ortho = false, no_lines = false, no_colorbar = false, no_text = false;
-  int width = 1280, height = 720, msaa = 4;
+  int msaa = 4;
+  RenderFlags image;  // width 1280, height 720
 };
 
 std::array<double, 3> vec3(const std::vector<double>& v, const char* name) {
@@ -40,13 +41,8 @@ std::array<double, 3> vec3(const std::vector<double>& v, const char* name) {
 int run(const RenderCmd& c) {
   using namespace capflow::render;
   RenderOptions o;
-  o.width = c.width;
-  o.height = c.height;
+  apply_render_flags(c.image, &o);
   o.msaa = c.msaa;
-  if (!parse_field(c.field, &o.field)) throw UserError("--field: unknown '" + c.field + "'");
-  if (!parse_colormap(c.colormap, &o.colormap))
-    throw UserError("--colormap: unknown '" + c.colormap + "'");
-  if (!parse_backend(c.backend, &o.backend)) throw UserError("--backend: unknown '" + c.backend + "'");
   if (!c.eye.empty()) {
     o.camera.view = View::Custom;
     o.camera.eye = vec3(c.eye, "eye");
@@ -57,12 +53,6 @@ int run(const RenderCmd& c) {
   }
   o.camera.orthographic = c.ortho;
   o.camera.fov_deg = c.fov;
-  if (!c.range.empty()) {
-    if (c.range.size() != 2) throw UserError("--range needs MIN,MAX");
-    o.auto_range = false;
-    o.range_min = c.range[0];
-    o.range_max = c.range[1];
-  }
   o.element_lines = !c.no_lines;
   o.overlay_colorbar = !c.no_colorbar;
   o.overlay_text = !c.no_text;
@@ -150,10 +140,6 @@ void setup(CLI::App& root) {
   sub->add_option("--shape", c->shape, "sphere | ellipsoid | lamellar");
   sub->add_option("--ellipsoid", c->ellipsoid, "semi-axes A,B,C of the ellipsoid")->delimiter(',');
   sub->add_option("--demo", c->demo, "demonstration field: stretch | x");
-  sub->add_option("--field", c->field, "colour: max | min | mean | plain");
-  sub->add_option("--colormap", c->colormap, "viridis | coolwarm (diverging, symmetric range)");
-  sub->add_option("--range", c->range, "fixed colour range MIN,MAX (default: automatic)")
-      ->delimiter(',');
   sub->add_option("--view", c->view, "oblique | xy | xz | yz");
   sub->add_option("--eye", c->eye, "explicit eye X,Y,Z (overrides --view)")->delimiter(',');
   sub->add_option("--target", c->target, "explicit target X,Y,Z")->delimiter(',');
@@ -163,10 +149,8 @@ void setup(CLI::App& root) {
   sub->add_flag("--no-lines", c->no_lines, "do not draw element edges");
   sub->add_flag("--no-colorbar", c->no_colorbar, "no colour bar");
   sub->add_flag("--no-text", c->no_text, "no text block (t, Ca, D, law)");
-  sub->add_option("--width", c->width, "image width (px)");
-  sub->add_option("--height", c->height, "image height (px)");
+  add_render_flags(sub, &c->image);
   sub->add_option("--msaa", c->msaa, "multisample count (0 = off)");
-  sub->add_option("--backend", c->backend, "auto | egl | osmesa");
   sub->add_option("-o,--output", c->out, "output PNG");
   sub->callback([c] { set_exit_code(run(*c)); });
 }
