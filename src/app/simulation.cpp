@@ -407,7 +407,7 @@ std::unique_ptr<Simulation> Simulation::resume(const std::string& run_dir, const
   s.cap->set_state(Eigen::Map<const Eigen::Matrix3Xd>(x.data(), 3, n), c.scalar("t"), c.integer("steps"));
   s.schedule->restore(c.doubles("schedule"));
   const auto& nrm = c.doubles("health_normals", 3 * n);
-  s.health->restore(Eigen::Map<const Eigen::Matrix3Xd>(nrm.data(), 3, n), c.doubles("health_flags", 3));
+  s.health->restore(Eigen::Map<const Eigen::Matrix3Xd>(nrm.data(), 3, n), c.doubles("health_flags"));
   s.frames = c.integer("frames");
   s.vtk_index = c.integer("vtk_index");
   if (fs::exists(dir / figures::kSurfaceCollection)) {

@@ -8,6 +8,12 @@
 //     P_{NB-1} along any grid line of any element, relative to that element's size, above
 //     oscillation_fail (default 2e-2)                             -> failure "oscillation";
 //     above oscillation_warn (default 2e-3)                       -> warning (once)
+//   * an under-resolved surface: the unit normals at two neighbouring nodes of a grid line
+//     differ by more than resolution_warn_angle (default 0.8 rad)  -> warning (once): a tip
+//     sharper than NB resolves (raise mesh.nb). Measured at the tips of the validation runs
+//     (benchmarks/capsule/volume_flux): 0.50 rad at Skalak Ca=0.45 NE=14 NB=12 (volume leak
+//     5e-8 per unit time), 1.0 at fig. 2b NE=6 NB=12 (8e-5), 1.2 at Skalak Ca=1.25 NE=14 NB=10
+//     (7e-5), 2.2 at NH Ca=0.4 NE=14 NB=10 (1e-3).
 // check_wrinkling() warns (once) when compressive tensions (tension2 < -tol) persist while the
 // shape is near steady state (|dD/dt| < rate_tol) - the paper's wrinkling below Ca ~ 0.15.
 // Reports name the cause, the simulated time and the location (element, node, position).
@@ -25,7 +31,7 @@ enum class HealthLevel { Ok, Warning, Failure };
 
 struct HealthReport {
   HealthLevel level = HealthLevel::Ok;
-  std::string cause;    // "nan", "jacobian", "oscillation", "wrinkling"
+  std::string cause;    // "nan", "jacobian", "oscillation", "resolution", "wrinkling"
   std::string message;  // plain sentence with time and location
   double indicator = 0; // the oscillation indicator at this check
 };
@@ -33,6 +39,7 @@ struct HealthReport {
 struct HealthOptions {
   double oscillation_warn = 2e-3;
   double oscillation_fail = 2e-2;
+  double resolution_warn_angle = 0.8;  // rad between the normals of neighbouring nodes
   double wrinkle_tension = -1e-3;   // tension2 below this is compressive
   double wrinkle_rate = 1e-3;       // |dD/dt| below this counts as near steady
   double wrinkle_duration = 1.0;    // compressive for this long (simulated time) -> warning
@@ -49,18 +56,19 @@ class HealthMonitor {
                                double d_rate);
 
   double oscillation_indicator(const Eigen::Matrix3Xd& x) const;
+  // Largest angle (rad) between the unit normals n of two neighbouring nodes along a grid line
+  // of an element, and the local index of the first of the two.
+  double max_normal_turning(const Eigen::Matrix3Xd& n, int* node = nullptr) const;
 
   // State for checkpoints: last good normals (3 x num_local) and the flags.
   const Eigen::Matrix3Xd& normals() const { return normals_; }
   std::vector<double> flags() const {
-    return {warned_oscillation_ ? 1.0 : 0.0, warned_wrinkle_ ? 1.0 : 0.0, compressive_since_};
+    return {warned_oscillation_ ? 1.0 : 0.0, warned_wrinkle_ ? 1.0 : 0.0, compressive_since_,
+            warned_resolution_ ? 1.0 : 0.0};
   }
-  void restore(const Eigen::Matrix3Xd& normals, const std::vector<double>& flags) {
-    normals_ = normals;
-    warned_oscillation_ = flags.at(0) != 0;
-    warned_wrinkle_ = flags.at(1) != 0;
-    compressive_since_ = flags.at(2);
-  }
+  // flags: 4 values as flags() gives, or the first 3 (checkpoints before the resolution check).
+  // Throws std::invalid_argument for another count.
+  void restore(const Eigen::Matrix3Xd& normals, const std::vector<double>& flags);
 
  private:
   const geometry::Mesh& mesh_;
@@ -69,6 +77,7 @@ class HealthMonitor {
   Eigen::Matrix3Xd normals_;
   bool warned_oscillation_ = false;
   bool warned_wrinkle_ = false;
+  bool warned_resolution_ = false;
   double compressive_since_ = -1;
 };
 

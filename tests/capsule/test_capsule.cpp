@@ -8,6 +8,7 @@
 #include "capsule/capsule.h"
 #include "capsule/health.h"
 #include "geometry/shapes.h"
+#include "geometry/surface.h"
 #include "spectral/spectral.h"
 #include "../membrane/membrane_test_util.h"
 
@@ -124,6 +125,53 @@ TEST(Health, DetectsNanJacobianFlipAndOscillation) {
   EXPECT_EQ(r.cause, "oscillation");
   EXPECT_EQ(r.level, HealthLevel::Failure);
   EXPECT_NE(r.message.find("oscillation"), std::string::npos);
+}
+
+// On the unit sphere the normal is the position, so the turning between neighbouring nodes is
+// their central angle (to the interpolation error of the normal); a thin ellipsoid's tips
+// (radius b^2/a) turn it by more than the warning angle at small NB: one warning, then none.
+TEST(Health, ResolutionWarningWhenTheNormalTurnsTooFastBetweenNodes) {
+  const geometry::Mesh mesh(6, 10);
+  HealthMonitor hm(mesh, mesh.reference());
+  const Eigen::Matrix3Xd& s = mesh.reference();
+  double central = 0;
+  for (int e = 0; e < mesh.ne(); ++e)
+    for (int j = 0; j < 10; ++j)
+      for (int i = 0; i + 1 < 10; ++i)
+        for (int dir = 0; dir < 2; ++dir) {
+          const Eigen::Vector3d a = s.col(dir ? mesh.local(e, j, i) : mesh.local(e, i, j));
+          const Eigen::Vector3d b = s.col(dir ? mesh.local(e, j, i + 1) : mesh.local(e, i + 1, j));
+          central = std::max(central, std::atan2(a.cross(b).norm(), a.dot(b)));
+        }
+  const geometry::SurfaceGeometry g = geometry::compute_geometry(mesh, s);
+  EXPECT_NEAR(hm.max_normal_turning(g.n), central, 1e-5);
+  EXPECT_LT(central, 0.3);
+  EXPECT_EQ(hm.check(s, 0.0).level, HealthLevel::Ok);
+
+  const geometry::Mesh coarse(6, 6);
+  const Eigen::Matrix3Xd thin =
+      geometry::map_points(coarse.reference(), geometry::ellipsoid_map(3.0, 0.3, 1.0));
+  HealthOptions opt;
+  opt.oscillation_warn = 1.0;  // this check only
+  opt.oscillation_fail = 2.0;
+  HealthMonitor hm2(coarse, thin, opt);
+  int node = -1;
+  const double turn = hm2.max_normal_turning(geometry::compute_geometry(coarse, thin).n, &node);
+  EXPECT_GT(turn, opt.resolution_warn_angle);
+  EXPECT_GT(std::abs(thin(0, node)), 2.0);  // at a tip
+  HealthReport r = hm2.check(thin, 1.5);
+  EXPECT_EQ(r.level, HealthLevel::Warning);
+  EXPECT_EQ(r.cause, "resolution");
+  EXPECT_NE(r.message.find("t = 1.5"), std::string::npos);
+  EXPECT_NE(r.message.find("mesh.nb"), std::string::npos);
+  EXPECT_EQ(hm2.check(thin, 1.6).level, HealthLevel::Ok);  // once
+  // checkpoint flags: the warned state survives; 3-value flags of older checkpoints load
+  HealthMonitor hm3(coarse, thin, opt);
+  hm3.restore(hm2.normals(), hm2.flags());
+  EXPECT_EQ(hm3.check(thin, 1.7).level, HealthLevel::Ok);
+  hm3.restore(hm2.normals(), {0.0, 0.0, -1.0});
+  EXPECT_EQ(hm3.check(thin, 1.8).cause, "resolution");
+  EXPECT_THROW(hm3.restore(hm2.normals(), {0.0, 0.0}), std::invalid_argument);
 }
 
 TEST(Health, WrinklingWarningNeedsPersistenceNearSteadyState) {
