@@ -68,9 +68,10 @@ SurfaceGeometry compute_geometry(const Mesh& mesh, const Matrix3Xd& x) {
 
 SurfacePoint ElementEvaluator::eval(int e, double s, double t) const {
   const int nb = mesh_.nb();
-  std::vector<double> ls(nb), dls(nb), lt(nb), dlt(nb), d2s(nb, 0.0), d2t(nb, 0.0);
-  spectral::lagrange_basis(mesh_.nodes(), mesh_.bary(), s, ls.data(), dls.data());
-  spectral::lagrange_basis(mesh_.nodes(), mesh_.bary(), t, lt.data(), dlt.data());
+  constexpr int kMax = 64;  // Mesh: nb <= 64; no allocation per call (Newton loops call this)
+  double ls[kMax], dls[kMax], lt[kMax], dlt[kMax], d2s[kMax] = {}, d2t[kMax] = {};
+  spectral::lagrange_basis(mesh_.nodes(), mesh_.bary(), s, ls, dls);
+  spectral::lagrange_basis(mesh_.nodes(), mesh_.bary(), t, lt, dlt);
   // Second derivative of the interpolant: p''(s) = sum_k l_k'(s) (D p)_k, exact for degree nb-1.
   const MatrixXd& d = mesh_.diff();
   for (int k = 0; k < nb; ++k)

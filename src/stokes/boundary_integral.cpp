@@ -245,47 +245,9 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void fill_bases(cons
 }
 
 // Value, first and second derivatives of one element's interpolant at (s, t).
-struct Eval2 {
-  Vector3d x, xs, xt, xss, xst, xtt;
-};
-Eval2 eval2(const geometry::Mesh& mesh, const Matrix3Xd& x, int e, double s, double t) {
-  const int nb = mesh.nb();
-  double ls[kMaxNb], dls[kMaxNb], lt[kMaxNb], dlt[kMaxNb], d2s[kMaxNb], d2t[kMaxNb];
-  spectral::lagrange_basis(mesh.nodes(), mesh.bary(), s, ls, dls);
-  spectral::lagrange_basis(mesh.nodes(), mesh.bary(), t, lt, dlt);
-  const MatrixXd& D = mesh.diff();
-  for (int i = 0; i < nb; ++i) {
-    d2s[i] = 0.0;
-    d2t[i] = 0.0;
-    for (int k = 0; k < nb; ++k) {
-      d2s[i] += dls[k] * D(k, i);
-      d2t[i] += dlt[k] * D(k, i);
-    }
-  }
-  Eval2 r;
-  r.x.setZero();
-  r.xs.setZero();
-  r.xt.setZero();
-  r.xss.setZero();
-  r.xst.setZero();
-  r.xtt.setZero();
-  const int base = e * nb * nb;
-  for (int j = 0; j < nb; ++j) {
-    Vector3d c0 = Vector3d::Zero(), c1 = Vector3d::Zero(), c2 = Vector3d::Zero();
-    for (int i = 0; i < nb; ++i) {
-      const Vector3d xi = x.col(base + j * nb + i);
-      c0 += ls[i] * xi;
-      c1 += dls[i] * xi;
-      c2 += d2s[i] * xi;
-    }
-    r.x += lt[j] * c0;
-    r.xs += lt[j] * c1;
-    r.xt += dlt[j] * c0;
-    r.xss += lt[j] * c2;
-    r.xst += dlt[j] * c1;
-    r.xtt += d2t[j] * c0;
-  }
-  return r;
+using Eval2 = geometry::SurfacePoint;
+inline Eval2 eval2(const geometry::Mesh& mesh, const Matrix3Xd& x, int e, double s, double t) {
+  return geometry::ElementEvaluator(mesh, x).eval(e, s, t);
 }
 
 // Nearest point of element e to x0 (Newton from the nearest node, clipped to the square).
