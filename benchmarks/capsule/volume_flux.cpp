@@ -6,7 +6,9 @@
 //           (u_inf - SL[f]/(8 pi Ca) there, with every quadrature order tripled; INT SL[f].n dS
 //           = 0 for any f, so this is the remaining quadrature error alone).
 // Also the largest |u_direct - u_h| per element (the collocation residual between the nodes,
-// which the nodes do not see) and the largest nodal |u|.
+// which the nodes do not see), the largest nodal |u|, the error of the nodal velocity of the
+// run's rules against the x3 reference, and the largest angle between the normals of
+// neighbouring nodes (the tip resolution the health check warns about).
 // Usage: volume_flux [--quad-scale K] [--far-scale K] [--own-scale K] [--near-scale K]
 //                    [--mid-scale K] [--no-traction-smoothing] RUN_DIR | CHECKPOINT.ckpt
 // (--quad-scale: every quadrature order of the velocity times K, to tell quadrature error from
