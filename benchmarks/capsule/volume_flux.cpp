@@ -23,7 +23,6 @@
 
 #include "app/simulation.h"
 #include "capsule/capsule.h"
-#include "capsule/health.h"
 #include "control/control_file.h"
 #include "control/schedule.h"
 #include "geometry/surface.h"
@@ -111,9 +110,8 @@ int run(const std::string& arg, const Variant& var) {
               total_d / v, u.colwise().norm().maxCoeff());
   std::printf("nodal velocity against the x%.0f reference: max |u - u_ref| %.2e at (%+.2f %+.2f %+.2f)\n",
               kRefScale, nodal_error, x(0, worst_node), x(1, worst_node), x(2, worst_node));
-  const capsule::HealthMonitor health(mesh, x);
   int m = 0;
-  const double turn = health.max_normal_turning(geometry::compute_geometry(mesh, x).n, &m);
+  const double turn = geometry::max_normal_turning(mesh, geometry::compute_geometry(mesh, x).n, &m);
   std::printf("largest normal turning between neighbouring nodes: %.3f rad at (%+.3f %+.3f %+.3f)\n",
               turn, x(0, m), x(1, m), x(2, m));
   return 0;

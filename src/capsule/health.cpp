@@ -52,24 +52,6 @@ double HealthMonitor::oscillation_indicator(const Eigen::Matrix3Xd& x) const {
   return worst;
 }
 
-double HealthMonitor::max_normal_turning(const Eigen::Matrix3Xd& n, int* node) const {
-  const int nb = mesh_.nb();
-  double worst = 0;
-  int at = 0;
-  for (int e = 0; e < mesh_.ne(); ++e)
-    for (int j = 0; j < nb; ++j)
-      for (int i = 0; i + 1 < nb; ++i)
-        for (int dir = 0; dir < 2; ++dir) {
-          const int a = dir == 0 ? mesh_.local(e, i, j) : mesh_.local(e, j, i);
-          const int b = dir == 0 ? mesh_.local(e, i + 1, j) : mesh_.local(e, j, i + 1);
-          // atan2 of |n_a x n_b| and n_a . n_b: accurate for small and large angles
-          const double ang = std::atan2(n.col(a).cross(n.col(b)).norm(), n.col(a).dot(n.col(b)));
-          if (ang > worst) worst = ang, at = a;
-        }
-  if (node) *node = at;
-  return worst;
-}
-
 void HealthMonitor::restore(const Eigen::Matrix3Xd& normals, const std::vector<double>& flags) {
   if (flags.size() != 3 && flags.size() != 4)
     throw std::invalid_argument("health flags: expected 3 or 4 values, got " +
@@ -116,7 +98,7 @@ HealthReport HealthMonitor::check(const Eigen::Matrix3Xd& x, double t) {
   }
   if (r.level == HealthLevel::Ok && !warned_resolution_) {
     int m = 0;
-    const double turn = max_normal_turning(g.n, &m);
+    const double turn = geometry::max_normal_turning(mesh_, g.n, &m);
     if (turn > opt_.resolution_warn_angle) {
       warned_resolution_ = true;
       r.level = HealthLevel::Warning;

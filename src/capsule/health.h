@@ -9,11 +9,12 @@
 //     oscillation_fail (default 2e-2)                             -> failure "oscillation";
 //     above oscillation_warn (default 2e-3)                       -> warning (once)
 //   * an under-resolved surface: the unit normals at two neighbouring nodes of a grid line
-//     differ by more than resolution_warn_angle (default 0.8 rad)  -> warning (once): a tip
+//     differ by more than resolution_warn_angle (default 0.8 rad; geometry::max_normal_turning)
+//                                                                  -> warning (once): a tip
 //     sharper than NB resolves (raise mesh.nb). Measured at the tips of the validation runs
 //     (benchmarks/capsule/volume_flux): 0.50 rad at Skalak Ca=0.45 NE=14 NB=12 (volume leak
 //     5e-8 per unit time), 1.0 at fig. 2b NE=6 NB=12 (8e-5), 1.2 at Skalak Ca=1.25 NE=14 NB=10
-//     (7e-5), 2.2 at NH Ca=0.4 NE=14 NB=10 (1e-3).
+//     (7e-5), 2.2 at NH Ca=0.4 NE=14 NB=10 (6e-4).
 // check_wrinkling() warns (once) when compressive tensions (tension2 < -tol) persist while the
 // shape is near steady state (|dD/dt| < rate_tol) - the paper's wrinkling below Ca ~ 0.15.
 // Reports name the cause, the simulated time and the location (element, node, position).
@@ -56,9 +57,6 @@ class HealthMonitor {
                                double d_rate);
 
   double oscillation_indicator(const Eigen::Matrix3Xd& x) const;
-  // Largest angle (rad) between the unit normals n of two neighbouring nodes along a grid line
-  // of an element, and the local index of the first of the two.
-  double max_normal_turning(const Eigen::Matrix3Xd& n, int* node = nullptr) const;
 
   // State for checkpoints: last good normals (3 x num_local) and the flags.
   const Eigen::Matrix3Xd& normals() const { return normals_; }

@@ -1,5 +1,7 @@
 #include "geometry/surface.h"
 
+#include <cmath>
+
 #include <vector>
 
 #include "spectral/spectral.h"
@@ -64,6 +66,24 @@ SurfaceGeometry compute_geometry(const Mesh& mesh, const Matrix3Xd& x) {
     g.gaussian_curvature[m] = (g.b11[m] * g.b22[m] - g.b12[m] * g.b12[m]) / det_g;
   }
   return g;
+}
+
+double max_normal_turning(const Mesh& mesh, const Matrix3Xd& n, int* node) {
+  const int nb = mesh.nb();
+  double worst = 0;
+  int at = 0;
+  for (int e = 0; e < mesh.ne(); ++e)
+    for (int j = 0; j < nb; ++j)
+      for (int i = 0; i + 1 < nb; ++i)
+        for (int dir = 0; dir < 2; ++dir) {
+          const int a = dir == 0 ? mesh.local(e, i, j) : mesh.local(e, j, i);
+          const int b = dir == 0 ? mesh.local(e, i + 1, j) : mesh.local(e, j, i + 1);
+          // atan2 of |n_a x n_b| and n_a . n_b: accurate for small and large angles
+          const double ang = std::atan2(n.col(a).cross(n.col(b)).norm(), n.col(a).dot(n.col(b)));
+          if (ang > worst) worst = ang, at = a;
+        }
+  if (node) *node = at;
+  return worst;
 }
 
 SurfacePoint ElementEvaluator::eval(int e, double s, double t) const {

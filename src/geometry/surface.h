@@ -25,6 +25,11 @@ struct SurfaceGeometry {
 
 SurfaceGeometry compute_geometry(const Mesh& mesh, const Matrix3Xd& x);
 
+// Largest angle (rad) between the unit normals n (3 x num_local) of two neighbouring nodes
+// along a grid line of an element, and the local index of the first of the two: how well the
+// grid resolves the sharpest place of the surface.
+double max_normal_turning(const Mesh& mesh, const Matrix3Xd& n, int* node = nullptr);
+
 // Element-wise parametric derivatives of a nodal field f (rows x num_local).
 MatrixXd d_xi(const Mesh& mesh, const MatrixXd& f);
 MatrixXd d_eta(const Mesh& mesh, const MatrixXd& f);

@@ -244,12 +244,6 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void fill_bases(cons
   }
 }
 
-// Value, first and second derivatives of one element's interpolant at (s, t).
-using Eval2 = geometry::SurfacePoint;
-inline Eval2 eval2(const geometry::Mesh& mesh, const Matrix3Xd& x, int e, double s, double t) {
-  return geometry::ElementEvaluator(mesh, x).eval(e, s, t);
-}
-
 // Nearest point of element e to x0 (Newton from the nearest node, clipped to the square).
 void nearest_point(const geometry::Mesh& mesh, const Matrix3Xd& x, int e, const Vector3d& x0,
                    double& s, double& t, double& h, Vector3d& xs, Vector3d& xt) {
@@ -271,7 +265,8 @@ void nearest_point(const geometry::Mesh& mesh, const Matrix3Xd& x, int e, const 
   // positive definite) runs in the free ones, and the clipped step is halved until the
   // distance decreases. (Clipping a full 2-D step instead can stall at a corner that is not
   // the nearest point.)
-  Eval2 p = eval2(mesh, x, e, s, t);
+  const geometry::ElementEvaluator ev(mesh, x);
+  geometry::SurfacePoint p = ev.eval(e, s, t);
   double f = (p.x - x0).squaredNorm();
   for (int it = 0; it < 50; ++it) {
     const Vector3d r = p.x - x0;
@@ -299,12 +294,12 @@ void nearest_point(const geometry::Mesh& mesh, const Matrix3Xd& x, int e, const 
       dt = -g2 / (h22 > 0.0 ? h22 : p.xt.squaredNorm());
     }
     double sn = s, tn = t, fn = f;
-    Eval2 pn;
+    geometry::SurfacePoint pn;
     bool improved = false;
     for (int half = 0; half < 30; ++half) {
       sn = std::clamp(s + ds, -1.0, 1.0);
       tn = std::clamp(t + dt, -1.0, 1.0);
-      pn = eval2(mesh, x, e, sn, tn);
+      pn = ev.eval(e, sn, tn);
       fn = (pn.x - x0).squaredNorm();
       if (fn <= f) {
         improved = true;

@@ -144,7 +144,7 @@ TEST(Health, ResolutionWarningWhenTheNormalTurnsTooFastBetweenNodes) {
           central = std::max(central, std::atan2(a.cross(b).norm(), a.dot(b)));
         }
   const geometry::SurfaceGeometry g = geometry::compute_geometry(mesh, s);
-  EXPECT_NEAR(hm.max_normal_turning(g.n), central, 1e-5);
+  EXPECT_NEAR(geometry::max_normal_turning(mesh, g.n), central, 1e-5);
   EXPECT_LT(central, 0.3);
   EXPECT_EQ(hm.check(s, 0.0).level, HealthLevel::Ok);
 
@@ -156,7 +156,7 @@ TEST(Health, ResolutionWarningWhenTheNormalTurnsTooFastBetweenNodes) {
   opt.oscillation_fail = 2.0;
   HealthMonitor hm2(coarse, thin, opt);
   int node = -1;
-  const double turn = hm2.max_normal_turning(geometry::compute_geometry(coarse, thin).n, &node);
+  const double turn = geometry::max_normal_turning(coarse, geometry::compute_geometry(coarse, thin).n, &node);
   EXPECT_GT(turn, opt.resolution_warn_angle);
   EXPECT_GT(std::abs(thin(0, node)), 2.0);  // at a tip
   HealthReport r = hm2.check(thin, 1.5);
