@@ -30,8 +30,13 @@ STRONG = [
     ("strong_skalak_ca125", "Skalak C=1, Ca=1.25 from rest", "stable steady state (t=30 in the paper)"),
     ("strong_nh_ca040", "neo-Hookean, Ca=0.4 from rest", "steady, semi-length L ~ 3 (t=40)"),
     ("strong_nh_ca040_volcorr", "neo-Hookean, Ca=0.4 from rest, volume correction (eq. 23)", "steady, semi-length L ~ 3 (t=40)"),
+    ("strong_skalak_ca125_nb12", "Skalak C=1, Ca=1.25 at NB=12", "stable steady state (t=30 in the paper)"),
+    ("strong_nh_ca040_nb12", "neo-Hookean, Ca=0.4 from rest at NB=12", "steady, semi-length L ~ 3 (t=40)"),
 ]
-SHEAR = ["shear_nh_ca00375", "shear_nh_ca0075", "shear_nh_ca015", "shear_nh_ca03", "shear_nh_ca06"]
+SHEAR = ["shear_nh_ca00375", "shear_nh_ca00375_ne10", "shear_nh_ca0075", "shear_nh_ca0075_ne10",
+         "shear_nh_ca015", "shear_nh_ca015_ne10", "shear_nh_ca015_ne14",
+         "shear_nh_ca03", "shear_nh_ca03_ne10", "shear_nh_ca03_ne14",
+         "shear_nh_ca06", "shear_nh_ca06_ne10", "shear_nh_ca06_ne14"]
 DRIFT_NB_RUN = "skalak_ca045"
 DRIFT_NB = [10, 12, 14]
 CONVERGENCE_NB = [8, 9, 10, 11, 12, 13, 14, 15]
@@ -108,8 +113,19 @@ def series(rdir):
         return [{k: float(v) for k, v in r.items()} for r in csv.DictReader(f)]
 
 
-def resolution(cfg):
-    return "NE=%d NB=%d dt=%g" % (cfg["mesh"]["elements"], cfg["mesh"]["nb"], cfg["time"]["dt"])
+def resolution(cfg, rdir=None):
+    """Mesh and dt; for a run started from another run's shape ("start.from"), which run and
+    at what time (its wall time is that of the continuation only)."""
+    r = "NE=%d NB=%d dt=%g" % (cfg["mesh"]["elements"], cfg["mesh"]["nb"], cfg["time"]["dt"])
+    src = cfg.get("start", {}).get("from")
+    if src:
+        t0 = None
+        if rdir and os.path.exists(os.path.join(rdir, "timeseries.csv")):
+            rows = series(rdir)
+            t0 = rows[0]["t"] if rows else None
+        r += ", continued from %s%s" % (os.path.basename(src.rstrip("/")),
+                                        " at t=%.2f" % t0 if t0 is not None else "")
+    return r
 
 
 def fmt_wall(s):
@@ -168,14 +184,14 @@ def strong_table(exe, reuse, only):
         if why and e is not None:
             r = series(rdir)[-1]  # the last state, not steady
             print("| %s | %s | %s | %s: last row t=%.2f | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f | %.3f | %.3f | %.1e | %s |" % (
-                label, resolution(cfg), text, why, r["t"], r["L"], r["S"], r["W"], r["Lc"], r["Sc"], r["Wc"],
+                label, resolution(cfg, rdir), text, why, r["t"], r["L"], r["S"], r["W"], r["Lc"], r["Sc"], r["Wc"],
                 r["edge_curvature"], r["tau_max"], r["volume_drift"], fmt_wall(e["wall"])))
             continue
         if why:
-            print("| %s | %s | %s | %s | | | | | | | | | | |" % (label, resolution(cfg), text, why))
+            print("| %s | %s | %s | %s | | | | | | | | | | |" % (label, resolution(cfg, rdir), text, why))
             continue
         print("| %s | %s | %s | %.2f | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f | %.3f | %.3f | %.1e | %s |" % (
-            label, resolution(cfg), text, e["t"], st["L"], st["S"], st["W"], st["Lc"], st["Sc"], st["Wc"],
+            label, resolution(cfg, rdir), text, e["t"], st["L"], st["S"], st["W"], st["Lc"], st["Sc"], st["Wc"],
             st["edge_curvature"], st["tau_max"], e["drift"], fmt_wall(e["wall"])))
     print()
 
@@ -198,14 +214,14 @@ def shear_table(exe, reuse, only):
             (d, dd), (incl, di) = mr("D"), mr("inclination_deg")
             (l, _), (sm, _), (w, _) = mr("L"), mr("S"), mr("W")
             print("| %g | %s | none by t=%.2f (%s); mean over the last 5: | %.4f +- %.4f | %.4f | %.4f | %.4f | %.2f +- %.2f | %.1e | %s |" % (
-                ca, resolution(cfg), e["t"], e["reason"], d, dd, l, sm, w, incl, di, e["drift"], fmt_wall(e["wall"])))
+                ca, resolution(cfg, rdir), e["t"], e["reason"], d, dd, l, sm, w, incl, di, e["drift"], fmt_wall(e["wall"])))
             continue
         if why:
-            print("| %g | %s | %s | | | | | | | |" % (ca, resolution(cfg), why))
+            print("| %g | %s | %s | | | | | | | |" % (ca, resolution(cfg, rdir), why))
             continue
         incl = series(rdir)[-1]["inclination_deg"]
         print("| %g | %s | %.2f | %.4f | %.4f | %.4f | %.4f | %.2f | %.1e | %s |" % (
-            ca, resolution(cfg), e["t"], st["D"], st["L"], st["S"], st["W"], incl, e["drift"], fmt_wall(e["wall"])))
+            ca, resolution(cfg, rdir), e["t"], st["D"], st["L"], st["S"], st["W"], incl, e["drift"], fmt_wall(e["wall"])))
     print()
 
 

@@ -26,6 +26,7 @@
 #include "control/schedule.h"
 #include "control/watcher.h"
 #include "diagnostics/diagnostics.h"
+#include "geometry/surface.h"
 #include "membrane/membrane.h"
 #include "output/checkpoint.h"
 #include "render/render_thread.h"
@@ -143,6 +144,50 @@ struct Simulation::Impl {
     cap = std::make_unique<capsule::Capsule>(*mesh, opt.law, opt.flow, control::dynamics_options(opt));
     health = std::make_unique<capsule::HealthMonitor>(*mesh, cap->positions());
     schedule = std::make_unique<control::CaScheduler>(opt.ca, opt.steady, 0.0);
+  }
+
+  // "start.from": the newest checkpoint of a run directory (or a .ckpt file), its shape resampled
+  // onto this run's mesh; time goes on from the checkpoint's t (the Ca schedule starts there).
+  void start_from(const control::StartOptions& st) {
+    const std::string where = "start.from: " + st.from;
+    std::string ckpt = st.from;
+    if (fs::is_directory(st.from)) {
+      ckpt = latest_checkpoint(st.from);
+      if (ckpt.empty())
+        throw std::runtime_error(where + " has no checkpoint in checkpoints/ (give a run directory "
+                                 "with a checkpoint, or a .ckpt file)");
+    } else if (!fs::is_regular_file(st.from)) {
+      throw std::runtime_error(where + ": no such run directory or checkpoint file");
+    }
+    const output::Checkpoint c = output::Checkpoint::read(ckpt);  // names the file on error
+    std::unique_ptr<geometry::Mesh> source;
+    try {
+      source = std::make_unique<geometry::Mesh>(static_cast<int>(c.integer("elements")),
+                                                static_cast<int>(c.integer("nb")));
+    } catch (const std::invalid_argument& e) {
+      throw std::runtime_error(ckpt + ": invalid mesh in the checkpoint (" + e.what() + ")");
+    }
+    const long n = source->num_local();
+    const auto& xs = c.doubles("x", 3 * n);
+    const double t0 = c.scalar("t");
+    if (!std::isfinite(t0) || t0 < 0) throw std::runtime_error(ckpt + ": invalid time t in the checkpoint");
+    Eigen::Matrix3Xd x =
+        geometry::resample_surface(*source, Eigen::Map<const Eigen::Matrix3Xd>(xs.data(), 3, n), *mesh);
+    if (!x.allFinite()) throw std::runtime_error(ckpt + ": the stored shape is not finite");
+    const double drift_before = capsule::enclosed_volume(*mesh, x) / cap->initial_volume() - 1.0;
+    if (st.restore_volume) x = capsule::rescale_to_volume(*mesh, x, cap->initial_volume());
+    cap->set_state(x, t0, 0);
+    health = std::make_unique<capsule::HealthMonitor>(*mesh, cap->positions());
+    schedule = std::make_unique<control::CaScheduler>(opt.ca, opt.steady, t0);
+    std::ostringstream m;
+    m << "initial shape from " << ckpt << " (NE=" << source->ne() << " NB=" << source->nb()
+      << ", t = " << t0 << ") resampled onto NE=" << mesh->ne() << " NB=" << mesh->nb()
+      << "; its volume drift " << drift_before
+      << (st.restore_volume ? " was removed (start.restore_volume)" : " is kept");
+    say(m.str());
+    event({{"event", "start_from"}, {"checkpoint", ckpt}, {"source_elements", source->ne()},
+           {"source_nb", source->nb()}, {"volume_drift_before", drift_before},
+           {"restore_volume", st.restore_volume}});
   }
 
   void start_renderer() {
@@ -366,6 +411,7 @@ Simulation::Simulation(const control::ControlOptions& options, const std::string
     src << (control_source.empty() ? "" : fs::absolute(control_source).string()) << "\n";
   }
   s.build_solver();
+  if (!options.start.from.empty()) s.start_from(options.start);
   s.checkpoint_now_seen = options.run.checkpoint_now;
   if (!control_source.empty()) s.watcher = std::make_unique<control::FileWatcher>(control_source);
   s.start_renderer();
@@ -460,9 +506,10 @@ RunSummary Simulation::run(const std::atomic<bool>* stop) {
   }
   Measures m = s.measure(true);
   if (fresh) {
-    s.write_row(m, s.schedule->ca(0.0));
-    if (s.opt.output.frame_every > 0) s.submit_frame(m, s.schedule->ca(0.0));
-    if (s.opt.output.vtk_every > 0) s.write_vtk(m, s.schedule->ca(0.0));
+    const double ca0 = s.schedule->ca(s.cap->time());  // t > 0 after start.from
+    s.write_row(m, ca0);
+    if (s.opt.output.frame_every > 0) s.submit_frame(m, ca0);
+    if (s.opt.output.vtk_every > 0) s.write_vtk(m, ca0);
   }
   double t = s.cap->time();
   double next_csv = next_after(t, s.opt.output.csv_every);

@@ -5,7 +5,7 @@
 //   timeseries.csv     t,ca,D,L,S,W,Lc,Sc,Wc,area,volume,edge_curvature,tau_max,tau_min,
 //                      inclination_deg,volume_drift,steps,wall_s   (every output.csv_every)
 //   steady.csv         ca,L,S,W,Lc,Sc,Wc,D,area,edge_curvature,tau_max,tau_min (per steady state)
-//   events.jsonl       one JSON object per event: start, resume, edit (accepted/refused, what
+//   events.jsonl       one JSON object per event: start, start_from, resume, edit (accepted/refused, what
 //                      changed), steady, level, warning, failure, checkpoint, pause, end; each
 //                      with wall_time (UTC) and t (simulated time)
 //   run.log            the log lines also printed to stderr

@@ -28,6 +28,17 @@ double enclosed_volume(const geometry::Mesh& mesh, const Eigen::Matrix3Xd& x) {
   return v / 3.0;
 }
 
+Eigen::Matrix3Xd rescale_to_volume(const geometry::Mesh& mesh, const Eigen::Matrix3Xd& x,
+                                   double v_target) {
+  const double v = enclosed_volume(mesh, x);
+  const geometry::QuadratureSurface q = geometry::sample_gauss(mesh, x, mesh.nb() + 4);
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (int k = 0; k < q.x.cols(); ++k) c += 0.5 * q.x.col(k).squaredNorm() * q.n.col(k) * q.w[k];
+  c /= v;
+  const double s = std::cbrt(v_target / v);
+  return ((x.colwise() - c) * s).colwise() + c;
+}
+
 Capsule::Capsule(const geometry::Mesh& mesh, const membrane::LawOptions& law, const Flow& flow,
                  const DynamicsOptions& options)
     : mesh_(mesh), flow_(flow), opt_(options) {
@@ -131,16 +142,7 @@ void Capsule::step(double dt, const CaFunction& ca) {
     else
       average_coincident(mesh_, &x_);
   }
-  if (opt_.volume_correction) {
-    const double v = enclosed_volume(mesh_, x_);
-    // Centroid x_c = (1/V) INT (|x|^2/2) n dS.
-    const geometry::QuadratureSurface q = geometry::sample_gauss(mesh_, x_, mesh_.nb() + 4);
-    Eigen::Vector3d c = Eigen::Vector3d::Zero();
-    for (int k = 0; k < q.x.cols(); ++k) c += 0.5 * q.x.col(k).squaredNorm() * q.n.col(k) * q.w[k];
-    c /= v;
-    const double s = std::cbrt(v0_ / v);
-    x_ = ((x_.colwise() - c) * s).colwise() + c;
-  }
+  if (opt_.volume_correction) x_ = rescale_to_volume(mesh_, x_, v0_);
   t_ = t + dt;
   ++steps_;
 }

@@ -109,4 +109,9 @@ class Capsule {
 // Volume enclosed by the surface x (Gauss quadrature, nq = NB + 4).
 double enclosed_volume(const geometry::Mesh& mesh, const Eigen::Matrix3Xd& x);
 
+// x scaled about its volume centroid x_c = (1/V) INT (|x|^2/2) n dS to enclose volume v_target
+// (paper eq. 23): x_c + (v_target/V)^(1/3) (x - x_c).
+Eigen::Matrix3Xd rescale_to_volume(const geometry::Mesh& mesh, const Eigen::Matrix3Xd& x,
+                                   double v_target);
+
 }  // namespace capflow::capsule

@@ -384,6 +384,12 @@ ParsedControl parse_control(const std::string& text, const std::string& source) 
     r.finish();
   }
   {
+    Reader r = root.object("start");
+    r.text("from", &o.start.from, "a run directory or checkpoint file to start from");
+    r.boolean("restore_volume", &o.start.restore_volume);
+    r.finish();
+  }
+  {
     Reader r = root.object("flow");
     const int t = r.choice("type", {"planar-extension", "simple-shear"});
     if (t == 0) o.flow = capsule::Flow::planar_extension();
@@ -537,6 +543,8 @@ std::string to_json_text(const ControlOptions& o) {
                   {"psi", o.law.psi},
                   {"viscosity_ratio", o.viscosity_ratio}};
   j["mesh"] = {{"elements", o.mesh.elements}, {"nb", o.mesh.nb}};
+  if (!o.start.from.empty())  // (an empty "from" is not valid input: omit the default)
+    j["start"] = {{"from", o.start.from}, {"restore_volume", o.start.restore_volume}};
   j["flow"] = {{"type", o.flow.name()}};
   j["time"] = {{"dt", o.time.dt}, {"t_end", o.time.t_end}};
   if (o.ca.constant && o.ca.segments.size() == 1) {

@@ -10,7 +10,7 @@ using json = nlohmann::json;
 
 namespace {
 
-const char* const kFrozen[] = {"capsule", "mesh", "flow", "numerics.symmetry", "numerics.smoothing",
+const char* const kFrozen[] = {"capsule", "mesh", "start", "flow", "numerics.symmetry", "numerics.smoothing",
                                "output.dir", "output.png", "output.mp4", "render"};
 
 bool frozen(const std::string& path) {

@@ -22,6 +22,19 @@ struct MeshOptions {
   int nb = 12;        // "mesh.nb": Gauss-Lobatto nodes per element direction, 4..24
 };
 
+// "start": the initial shape (default: the unstressed reference sphere at t = 0).
+struct StartOptions {
+  std::string from;             // "start.from": a run directory (its newest checkpoint) or a
+                                // .ckpt file; its shape is resampled spectrally onto this run's
+                                // mesh (geometry::resample_surface), which may differ in NB and
+                                // elements; the run goes on from the checkpoint's time t, with its
+                                // Ca schedule starting at t. "" = the reference sphere.
+  bool restore_volume = true;   // "start.restore_volume": scale the resampled shape about its
+                                // centroid to the reference volume (removes the source run's
+                                // volume drift and the resampling error), so that volume_drift
+                                // stays relative to the unstressed sphere
+};
+
 struct TimeOptions {
   double dt = 1e-3;   // "time.dt": RK4 step, (0, 0.1]; stable for dt < O(Ca dx_min)
   double t_end = 20;  // "time.t_end": simulated end time, (0, 1e6]
@@ -102,6 +115,7 @@ struct ControlOptions {
   membrane::LawOptions law;           // "capsule.law", "capsule.C", "capsule.psi"
   double viscosity_ratio = 1.0;       // "capsule.viscosity_ratio": only 1 is implemented
   MeshOptions mesh;
+  StartOptions start;                 // "start"
   capsule::Flow flow;                 // "flow.type": "planar-extension" | "simple-shear"
   TimeOptions time;
   CaSchedule ca;                      // "ca": number or list of segments

@@ -1,5 +1,6 @@
 #include "geometry/mesh.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -78,6 +79,31 @@ Vector3d Mesh::sphere_point(int e, double xi, double eta) const {
   c[p.tu] = coord(p.a0, p.a1, xi);
   c[p.tv] = coord(p.b0, p.b1, eta);
   return c.normalized();
+}
+
+Mesh::Location Mesh::locate(const Vector3d& p) const {
+  int a = 0;
+  for (int k = 1; k < 3; ++k)
+    if (std::abs(p[k]) > std::abs(p[a])) a = k;
+  if (!(std::abs(p[a]) > 0)) throw std::invalid_argument("Mesh::locate: the direction is zero or NaN");
+  const int sign = p[a] > 0 ? 1 : -1;
+  // Parameter of cube coordinate c on a patch covering angles [lo, hi] (inverse of the map in
+  // sphere_point).
+  auto param = [this](double lo, double hi, double c) {
+    if (map_ == ElementMap::Equiangular) return 2.0 * (std::atan(c) - lo) / (hi - lo) - 1.0;
+    return 2.0 * (c - std::tan(lo)) / (std::tan(hi) - std::tan(lo)) - 1.0;
+  };
+  constexpr double kTol = 1e-12;
+  for (int e = 0; e < ne_; ++e) {
+    const Patch& q = patches_[e];
+    if (q.axis != a || q.sign != sign) continue;
+    const double xi = param(q.a0, q.a1, p[q.tu] / std::abs(p[a]));
+    const double eta = param(q.b0, q.b1, p[q.tv] / std::abs(p[a]));
+    if (std::abs(xi) <= 1.0 + kTol && std::abs(eta) <= 1.0 + kTol)
+      return {e, std::clamp(xi, -1.0, 1.0), std::clamp(eta, -1.0, 1.0)};
+  }
+  // Unreachable for a division that tiles the cube: every face is covered by its patches.
+  throw std::logic_error("Mesh::locate: no element holds the direction");
 }
 
 void Mesh::build_coincidence() {

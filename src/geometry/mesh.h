@@ -66,6 +66,14 @@ class Mesh {
   const Matrix3Xd& reference() const { return ref_; }
   // The exact reference sphere point at parameters (xi, eta) of element e.
   Vector3d sphere_point(int e, double xi, double eta) const;
+  // The inverse of sphere_point: the element holding the direction p (any p != 0; it is taken
+  // as the sphere point p/|p|) and its parameters there, in [-1,1]^2. A point on an element
+  // edge goes to the first element (in element order) that holds it.
+  struct Location {
+    int e = -1;
+    double xi = 0, eta = 0;
+  };
+  Location locate(const Vector3d& p) const;
 
   const std::vector<int>& unique_of() const { return unique_of_; }
   const std::vector<std::vector<int>>& classes() const { return classes_; }

@@ -1,6 +1,8 @@
 #include "geometry/surface.h"
 
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include <vector>
 
@@ -141,6 +143,21 @@ MatrixXd to_gauss(const Mesh& mesh, const MatrixXd& f, const MatrixXd& interp) {
         o.setZero();
         for (int j = 0; j < nb; ++j) o += interp(b, j) * tmp.col(j * nq + a);
       }
+  }
+  return out;
+}
+
+Matrix3Xd resample_surface(const Mesh& from, const Matrix3Xd& x, const Mesh& to) {
+  if (x.cols() != from.num_local())
+    throw std::invalid_argument("resample_surface: x has " + std::to_string(x.cols()) +
+                                " nodes, the source mesh " + std::to_string(from.num_local()));
+  const ElementEvaluator ev(from, x);
+  Matrix3Xd out(3, to.num_local());
+  // One evaluation per distinct node, copied to its coincident locals.
+  for (const std::vector<int>& cls : to.classes()) {
+    const Mesh::Location at = from.locate(to.reference().col(cls.front()));
+    const Vector3d p = ev.eval(at.e, at.xi, at.eta).x;
+    for (int m : cls) out.col(m) = p;
   }
   return out;
 }

@@ -50,6 +50,13 @@ class ElementEvaluator {
   const Matrix3Xd& x_;
 };
 
+// The surface x (nodal positions on mesh `from`) carried to the nodes of mesh `to` through the
+// reference sphere: node m of `to` gets the spectral interpolant of x at the material point
+// to.reference().col(m) (Mesh::locate finds it on `from`). Changes NB and/or the element division
+// of a shape; coincident nodes of `to` get identical positions. Exact for shapes whose elements
+// are polynomials of degree < from.nb() in (xi, eta) when both meshes share the division.
+Matrix3Xd resample_surface(const Mesh& from, const Matrix3Xd& x, const Mesh& to);
+
 // The surface sampled at nq x nq Gauss-Legendre points of every element: positions, unit
 // normals, tangents and the area weights w = w_s w_t sqrt(g), so INT F dS ~ sum_k F(x_k) w_k.
 struct QuadratureSurface {

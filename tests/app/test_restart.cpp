@@ -106,3 +106,84 @@ TEST(SteadyStop, RunEndsAtTheSteadyStateOfTheFinalLevel) {
   EXPECT_NEAR(rb.t, 0.2, 1e-9);
   EXPECT_EQ(test::lines_of(a / "steady.csv").size(), 2u);  // header + one row
 }
+
+namespace {
+// Column `name` of the CSV row `row` (0 = first data row) of a timeseries.
+double csv_value(const fs::path& csv, size_t row, const std::string& name) {
+  const std::vector<std::string> lines = test::lines_of(csv);
+  auto split = [](const std::string& l) {
+    std::vector<std::string> f;
+    std::stringstream ss(l);
+    for (std::string c; std::getline(ss, c, ',');) f.push_back(c);
+    return f;
+  };
+  const std::vector<std::string> head = split(lines.at(0)), cells = split(lines.at(row + 1));
+  for (size_t k = 0; k < head.size(); ++k)
+    if (head[k] == name) return std::stod(cells.at(k));
+  ADD_FAILURE() << "no column " << name;
+  return NAN;
+}
+}  // namespace
+
+TEST(StartFrom, RunGoesOnFromAnotherRunsShapeOnAnotherMesh) {
+  // Run a deforms the sphere (NE=6 NB=6); run b starts from a's newest checkpoint on NE=10 NB=8.
+  const fs::path a = test::fresh_dir("start_src"), b = test::fresh_dir("start_dst");
+  {
+    app::Simulation sim(options(a, 0.04), "");
+    ASSERT_EQ(sim.run().steps, 10);
+  }
+  const size_t last_a = test::lines_of(a / "timeseries.csv").size() - 2;
+  ASSERT_NEAR(csv_value(a / "timeseries.csv", last_a, "t"), 0.04, 1e-12);
+  control::ControlOptions ob = options(b, 0.06);
+  ob.mesh = {10, 8};
+  ob.start.from = a.string();
+  {
+    app::Simulation sim(ob, "");
+    const app::RunSummary s = sim.run();
+    EXPECT_EQ(s.steps, 5);  // from t = 0.04 to 0.06
+    EXPECT_FALSE(s.failed);
+  }
+  const fs::path csv = b / "timeseries.csv";
+  EXPECT_NEAR(csv_value(csv, 0, "t"), 0.04, 1e-12);
+  // The same shape (to the NB=6 interpolation error), the source's volume drift removed.
+  EXPECT_NEAR(csv_value(csv, 0, "D"), csv_value(a / "timeseries.csv", last_a, "D"), 2e-4);
+  EXPECT_NEAR(csv_value(csv, 0, "L"), csv_value(a / "timeseries.csv", last_a, "L"), 2e-4);
+  EXPECT_LT(std::abs(csv_value(csv, 0, "volume_drift")), 1e-13);
+  // The Ca schedule starts at the source's time: its first segment holds Ca = 0.2 until t = 0.06.
+  EXPECT_DOUBLE_EQ(csv_value(csv, 0, "ca"), 0.2);
+  const std::string events = test::read_file(b / "events.jsonl");
+  EXPECT_NE(events.find("\"event\":\"start_from\""), std::string::npos);
+  EXPECT_NE(events.find("\"source_nb\":6"), std::string::npos);
+  // Keeping the volume: the first row shows the drift the event reports.
+  const fs::path c = test::fresh_dir("start_keep");
+  control::ControlOptions oc = ob;
+  oc.output.dir = c.string();
+  oc.start.restore_volume = false;
+  { app::Simulation sim(oc, ""); }
+  const std::string ev = test::read_file(c / "events.jsonl");
+  EXPECT_NE(ev.find("\"restore_volume\":false"), std::string::npos);
+  fs::remove_all(a);
+  fs::remove_all(b);
+  fs::remove_all(c);
+}
+
+TEST(StartFrom, MissingSourcesAreRefusedNamingTheField) {
+  const fs::path d = test::fresh_dir("start_bad"), empty = test::fresh_dir("start_empty");
+  auto message = [&](const std::string& from) {
+    control::ControlOptions o = options(d, 0.04);
+    o.start.from = from;
+    try {
+      app::Simulation sim(o, "");
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message((d / "nowhere").string()).find("start.from: "), std::string::npos);
+  EXPECT_NE(message((d / "nowhere").string()).find("no such run directory"), std::string::npos);
+  EXPECT_NE(message(empty.string()).find("has no checkpoint"), std::string::npos);
+  test::write_file(empty / "x.ckpt", "garbage");
+  EXPECT_NE(message((empty / "x.ckpt").string()).find("not a capflow checkpoint"), std::string::npos);
+  fs::remove_all(d);
+  fs::remove_all(empty);
+}

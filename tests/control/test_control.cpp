@@ -231,6 +231,21 @@ TEST(ControlFile, EffectiveFileRoundTrips) {
   EXPECT_DOUBLE_EQ(q.options.ca.segments[1].hold_time, 2.0);
 }
 
+TEST(ControlFile, StartFromAnotherRun) {
+  const ParsedControl p =
+      parse_control(R"({"ca": 0.4, "start": {"from": "runs/a", "restore_volume": false}})");
+  EXPECT_EQ(p.options.start.from, "runs/a");
+  EXPECT_FALSE(p.options.start.restore_volume);
+  // Round trip; the default (the reference sphere) writes no "start".
+  EXPECT_EQ(parse_control(to_json_text(p.options)).options.start.from, "runs/a");
+  EXPECT_EQ(to_json_text(parse_control(kMinimal).options).find("\"start\""), std::string::npos);
+  expect_contains(issue_at(R"({"ca": 0.4, "start": {"from": ""}})", "start.from"), "non-empty string");
+  expect_contains(issue_at(R"({"ca": 0.4, "start": {"from": 3}})", "start.from"), "non-empty string");
+  expect_contains(issue_at(R"({"ca": 0.4, "start": {"restore_volume": 1}})", "start.restore_volume"),
+                  "true or false");
+  expect_contains(issue_at(R"({"ca": 0.4, "start": {"form": "x"}})", "start.form"), "from");
+}
+
 TEST(ControlFile, UnreadableFile) {
   try {
     load_control_file("/nonexistent/capflow.json");

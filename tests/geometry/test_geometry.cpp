@@ -190,3 +190,83 @@ TEST(Geometry, EllipsoidMeanCurvatureMatchesClosedForm) {
     EXPECT_LT(err, 1e-5) << ne;
   }
 }
+
+TEST(Geometry, LocateInvertsSpherePoint) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (ElementMap map : {ElementMap::Equiangular, ElementMap::Radial})
+    for (int ne : {6, 10, 14}) {
+      const Mesh mesh(ne, 5, map);
+      double worst = 0;
+      for (int e = 0; e < ne; ++e)
+        for (int k = 0; k < 50; ++k) {
+          const double xi = 0.999 * u(rng), eta = 0.999 * u(rng);
+          const Mesh::Location at = mesh.locate(3.0 * mesh.sphere_point(e, xi, eta));
+          ASSERT_EQ(at.e, e);
+          worst = std::max({worst, std::abs(at.xi - xi), std::abs(at.eta - eta)});
+        }
+      EXPECT_LT(worst, 1e-13) << "ne " << ne;
+      // Edge and corner points (shared by 2-4 elements) go to an element that holds them.
+      for (int e = 0; e < ne; ++e)
+        for (double xi : {-1.0, 1.0})
+          for (double eta : {-1.0, 0.3, 1.0}) {
+            const Vector3d p = mesh.sphere_point(e, xi, eta);
+            const Mesh::Location at = mesh.locate(p);
+            EXPECT_LT((mesh.sphere_point(at.e, at.xi, at.eta) - p).norm(), 1e-14);
+          }
+    }
+  EXPECT_THROW(Mesh(6, 5).locate(Vector3d::Zero()), std::invalid_argument);
+}
+
+namespace {
+// A smooth non-symmetric deformation of the material points X of the unit sphere.
+Vector3d deformed(const Vector3d& X) {
+  return Vector3d(1.4 * X.x() + 0.2 * X.y() * X.z(), 0.8 * X.y() + 0.1 * X.x() * X.x(),
+                  0.9 * X.z() - 0.15 * X.x() * X.y() + 0.05);
+}
+Matrix3Xd deformed_nodes(const Mesh& mesh) {
+  Matrix3Xd x(3, mesh.num_local());
+  for (int m = 0; m < mesh.num_local(); ++m) x.col(m) = deformed(mesh.reference().col(m));
+  return x;
+}
+}  // namespace
+
+TEST(Geometry, ResampleIsExactOnTheSameMeshAndOnElementPolynomials) {
+  for (int ne : {6, 10, 14}) {
+    const Mesh coarse(ne, 6), fine(ne, 12);
+    const Matrix3Xd x = deformed_nodes(coarse);
+    // Onto the same mesh: the identity.
+    EXPECT_LT((resample_surface(coarse, x, coarse) - x).cwiseAbs().maxCoeff(), 1e-13) << ne;
+    // The coarse interpolant is a degree-5 polynomial on each element: NB=12 represents it
+    // exactly, so coarse -> fine -> coarse returns x, and the fine interpolant equals the coarse
+    // one everywhere.
+    const Matrix3Xd xf = resample_surface(coarse, x, fine);
+    EXPECT_LT((resample_surface(fine, xf, coarse) - x).cwiseAbs().maxCoeff(), 1e-12) << ne;
+    const ElementEvaluator ec(coarse, x), ef(fine, xf);
+    double worst = 0;
+    for (int e = 0; e < ne; ++e)
+      for (double s : {-0.77, 0.1, 0.93})
+        for (double t : {-0.4, 0.55})
+          worst = std::max(worst, (ec.eval(e, s, t).x - ef.eval(e, s, t).x).norm());
+    EXPECT_LT(worst, 1e-12) << ne;
+    // Coincident nodes of the target are identical.
+    for (const auto& c : fine.classes())
+      for (int m : c) ASSERT_EQ((xf.col(m) - xf.col(c.front())).norm(), 0.0);
+  }
+}
+
+TEST(Geometry, ResampleAcrossDivisionsConvergesSpectrally) {
+  // NE=6 -> NE=14 (the element edges do not coincide): the error against the exact map at the
+  // target nodes is the source's interpolation error, falling exponentially with the source NB.
+  const Mesh target(14, 12);
+  const Matrix3Xd exact = deformed_nodes(target);
+  std::vector<double> err;
+  for (int nb : {6, 9, 12, 15}) {
+    const Mesh source(6, nb);
+    err.push_back((resample_surface(source, deformed_nodes(source), target) - exact).cwiseAbs().maxCoeff());
+    std::printf("NE=6 NB=%d -> NE=14 NB=12: max error %.2e\n", nb, err.back());
+  }
+  for (size_t k = 1; k < err.size(); ++k) EXPECT_LT(err[k], 0.1 * err[k - 1]);
+  EXPECT_LT(err.back(), 1e-6);
+  EXPECT_THROW(resample_surface(Mesh(6, 6), Matrix3Xd::Zero(3, 10), target), std::invalid_argument);
+}
