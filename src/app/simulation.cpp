@@ -400,6 +400,19 @@ Simulation::Simulation(const control::ControlOptions& options, const std::string
   s.opt = options;
   s.dir = options.output.dir;
   s.control_source = control_source;
+  if (!options.start.from.empty()) {
+    // Refuse before anything in the run directory is created or truncated: starting from a
+    // checkpoint inside this run's own directory would overwrite the source's outputs.
+    auto inside = [](const fs::path& p, const fs::path& dir) {
+      const std::string a = fs::weakly_canonical(fs::absolute(p)).string() + "/";
+      const std::string b = fs::weakly_canonical(fs::absolute(dir)).string() + "/";
+      return a.compare(0, b.size(), b) == 0;
+    };
+    if (inside(options.start.from, s.dir))
+      throw std::runtime_error("start.from: " + options.start.from + " is in this run's own directory (output.dir " +
+                               s.dir.string() + "), whose outputs a new run overwrites: give another "
+                               "run's directory, or continue this run with --resume");
+  }
   std::error_code ec;
   fs::create_directories(s.dir, ec);
   if (ec)

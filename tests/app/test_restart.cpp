@@ -179,9 +179,15 @@ TEST(StartFrom, MissingSourcesAreRefusedNamingTheField) {
     }
     return std::string("no error");
   };
-  EXPECT_NE(message((d / "nowhere").string()).find("start.from: "), std::string::npos);
-  EXPECT_NE(message((d / "nowhere").string()).find("no such run directory"), std::string::npos);
+  EXPECT_NE(message((empty / "nowhere").string()).find("start.from: "), std::string::npos);
+  EXPECT_NE(message((empty / "nowhere").string()).find("no such run directory"), std::string::npos);
   EXPECT_NE(message(empty.string()).find("has no checkpoint"), std::string::npos);
+  // This run's own directory (or a checkpoint in it) is refused before its outputs are touched.
+  test::write_file(d / "timeseries.csv", "keep");
+  EXPECT_NE(message(d.string()).find("this run's own directory"), std::string::npos);
+  EXPECT_NE(message((d / "checkpoints" / "ckpt_0000000010.ckpt").string()).find("own directory"),
+            std::string::npos);
+  EXPECT_EQ(test::read_file(d / "timeseries.csv"), "keep");
   test::write_file(empty / "x.ckpt", "garbage");
   EXPECT_NE(message((empty / "x.ckpt").string()).find("not a capflow checkpoint"), std::string::npos);
   fs::remove_all(d);
