@@ -138,16 +138,20 @@ struct Simulation::Impl {
     fs::rename(tmp, dir / "control.json");
   }
 
-  void build_solver() {
+  // The mesh, the capsule (at rest, or from `start`: see start_from), and the health monitor and
+  // Ca schedule for that initial state (a resume restores their saved state afterwards).
+  void build_solver(const control::StartOptions* start = nullptr) {
     if (opt.numerics.threads > 0) omp_set_num_threads(opt.numerics.threads);
     mesh = std::make_unique<geometry::Mesh>(opt.mesh.elements, opt.mesh.nb);
     cap = std::make_unique<capsule::Capsule>(*mesh, opt.law, opt.flow, control::dynamics_options(opt));
+    if (start) start_from(*start);
     health = std::make_unique<capsule::HealthMonitor>(*mesh, cap->positions());
-    schedule = std::make_unique<control::CaScheduler>(opt.ca, opt.steady, 0.0);
+    schedule = std::make_unique<control::CaScheduler>(opt.ca, opt.steady, cap->time());
   }
 
   // "start.from": the newest checkpoint of a run directory (or a .ckpt file), its shape resampled
-  // onto this run's mesh; time goes on from the checkpoint's t (the Ca schedule starts there).
+  // onto this run's mesh; time goes on from the checkpoint's t (build_solver starts the Ca
+  // schedule there).
   void start_from(const control::StartOptions& st) {
     const std::string where = "start.from: " + st.from;
     std::string ckpt = st.from;
@@ -177,8 +181,6 @@ struct Simulation::Impl {
     const double drift_before = capsule::enclosed_volume(*mesh, x) / cap->initial_volume() - 1.0;
     if (st.restore_volume) x = capsule::rescale_to_volume(*mesh, x, cap->initial_volume());
     cap->set_state(x, t0, 0);
-    health = std::make_unique<capsule::HealthMonitor>(*mesh, cap->positions());
-    schedule = std::make_unique<control::CaScheduler>(opt.ca, opt.steady, t0);
     std::ostringstream m;
     m << "initial shape from " << ckpt << " (NE=" << source->ne() << " NB=" << source->nb()
       << ", t = " << t0 << ") resampled onto NE=" << mesh->ne() << " NB=" << mesh->nb()
@@ -423,8 +425,7 @@ Simulation::Simulation(const control::ControlOptions& options, const std::string
     std::ofstream src(s.dir / "control.source", std::ios::trunc);
     src << (control_source.empty() ? "" : fs::absolute(control_source).string()) << "\n";
   }
-  s.build_solver();
-  if (!options.start.from.empty()) s.start_from(options.start);
+  s.build_solver(options.start.from.empty() ? nullptr : &options.start);
   s.checkpoint_now_seen = options.run.checkpoint_now;
   if (!control_source.empty()) s.watcher = std::make_unique<control::FileWatcher>(control_source);
   s.start_renderer();

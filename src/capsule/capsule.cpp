@@ -21,17 +21,24 @@ SymmetryKind symmetry_for(const Flow& flow, SymmetryChoice choice) {
 }
 }  // namespace
 
-double enclosed_volume(const geometry::Mesh& mesh, const Eigen::Matrix3Xd& x) {
-  const geometry::QuadratureSurface q = geometry::sample_gauss(mesh, x, mesh.nb() + 4);
+namespace {
+// V = (1/3) INT x.n dS on the sampled surface.
+double volume_of(const geometry::QuadratureSurface& q) {
   double v = 0;
   for (int k = 0; k < q.x.cols(); ++k) v += q.x.col(k).dot(q.n.col(k)) * q.w[k];
   return v / 3.0;
 }
+}  // namespace
+
+double enclosed_volume(const geometry::Mesh& mesh, const Eigen::Matrix3Xd& x) {
+  return volume_of(geometry::sample_gauss(mesh, x, mesh.nb() + 4));
+}
 
 Eigen::Matrix3Xd rescale_to_volume(const geometry::Mesh& mesh, const Eigen::Matrix3Xd& x,
                                    double v_target) {
-  const double v = enclosed_volume(mesh, x);
+  // One sampling of the surface for both the volume and the centroid.
   const geometry::QuadratureSurface q = geometry::sample_gauss(mesh, x, mesh.nb() + 4);
+  const double v = volume_of(q);
   Eigen::Vector3d c = Eigen::Vector3d::Zero();
   for (int k = 0; k < q.x.cols(); ++k) c += 0.5 * q.x.col(k).squaredNorm() * q.n.col(k) * q.w[k];
   c /= v;
