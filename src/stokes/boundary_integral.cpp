@@ -27,15 +27,19 @@ constexpr int kMaxEdge = 256;  // Gauss points along an edge
 
 using LineRule = BoundaryOperators::Rule;
 
-// Radial nodes (u, weight) on [0, 1] for one edge of a polar rule. h <= 0 (own element):
-// Gauss-Legendre gr in u. h > 0 (near element, scale h in u): the inner panel [0, u1],
-// u1 = min(1/2, split h) (split <= 0: u1 = 1), mapped by u = h sinh(sigma) with gi in sigma
-// (further split into panels of length <= 6 in sigma), and the outer panel [u1, 1] with go
-// in u (the sinh map alone under-resolves the polynomial part of the integrand far from p*).
+// Radial nodes (u, weight) on [0, 1] for one edge of a polar rule. h <= 0: Gauss-Legendre gr
+// in u. h > 0 (scale h in u): the inner panel [0, u1], u1 = min(1, split) (split <= 0:
+// u1 = 1), mapped by u = h sinh(sigma) with gi in sigma (further split into panels of length
+// <= 6 in sigma), and the outer part [u1, 1] with go in u on each of out_panels panels whose
+// lengths grow by 2 away from p0 (the sinh map alone under-resolves the polynomial part of the
+// integrand far from p*). Near elements: h = the near-singular scale; own elements: a fixed
+// grading scale (the ray integrand of a curved, non-uniformly stretched element has a complex
+// singularity near u = 0 at ~ |J v|^2 / |J v . x_vv|, which plain Gauss in u resolves badly).
 struct RadialOpt {
   const spectral::Rule* gi = nullptr;
   const spectral::Rule* go = nullptr;
   double split = 0.0;
+  int out_panels = 1;
 };
 void radial_nodes(double h, const spectral::Rule& gr, const RadialOpt& ro,
                   std::vector<std::pair<double, double>>& rad) {
@@ -57,8 +61,11 @@ void radial_nodes(double h, const spectral::Rule& gr, const RadialOpt& ro,
     }
   if (u1 < 1.0) {
     const spectral::Rule& go = ro.go ? *ro.go : gr;
-    for (int b = 0; b < go.x.size(); ++b)
-      rad.emplace_back(u1 + 0.5 * (1 - u1) * (go.x[b] + 1.0), 0.5 * (1 - u1) * go.w[b]);
+    const int np = std::max(1, ro.out_panels);
+    double len = (1 - u1) / ((1 << np) - 1), a = u1;  // lengths len, 2 len, 4 len, ...
+    for (int q = 0; q < np; ++q, a += len, len *= 2)
+      for (int b = 0; b < go.x.size(); ++b)
+        rad.emplace_back(a + 0.5 * len * (go.x[b] + 1.0), 0.5 * len * go.w[b]);
   }
 }
 
@@ -711,7 +718,9 @@ BoundaryOperators::BoundaryOperators(const geometry::Mesh& mesh, QuadratureOptio
   // steady-state volume leak and two thirds of the NH Ca=0.4 one at t=17.4
   // (benchmarks/capsule/volume_flux --far-scale; docs/validation.md, Milestone 3).
   if (opt_.nq_far <= 0) opt_.nq_far = (3 * nb + 19) / 2;
-  if (opt_.nq_mid <= 0) opt_.nq_mid = 2 * nb + 4;
+  // Mid order: 2 nb + 4 left 1e-4 (relative) in SL[f] at the strongly deformed NH Ca=0.4 state
+  // (NE=14 NB=10, t=17.4; benchmarks/capsule/quadrature_study), 3 nb + 2 leaves 3e-5.
+  if (opt_.nq_mid <= 0) opt_.nq_mid = 3 * nb + 2;
   // Elongated elements (NE=14 rows: 30 x 90 degrees) stretch the sinh-mapped edge coordinate
   // over a longer physical length; with the square-element orders their next-to-edge nodes miss
   // INT T.n = -4 pi I by 8e-8 at NB=12, with these 2.4e-9 (tests/stokes, StokesSphere).
@@ -722,10 +731,16 @@ BoundaryOperators::BoundaryOperators(const geometry::Mesh& mesh, QuadratureOptio
   }
   const bool elongated = aspect > 2.05;
   if (opt_.n_edge <= 0) opt_.n_edge = elongated ? 3 * nb : 2 * nb;
-  if (opt_.n_radial <= 0) opt_.n_radial = nb + 4;
-  if (opt_.n_edge_near <= 0) opt_.n_edge_near = elongated ? 2 * nb : nb + 2;
+  if (opt_.n_radial_inner < 0) opt_.n_radial_inner = nb + 2;
+  if (opt_.n_radial <= 0) opt_.n_radial = opt_.n_radial_inner > 0 ? nb : nb + 4;
+  if (opt_.n_edge_near <= 0) opt_.n_edge_near = elongated ? 2 * nb : nb + 6;
   if (opt_.n_radial_near <= 0) opt_.n_radial_near = nb;
-  if (opt_.n_radial_near_out <= 0) opt_.n_radial_near_out = nb;
+  if (opt_.n_radial_near_out <= 0) opt_.n_radial_near_out = std::max(4, nb - 2);
+  if (opt_.near_out_panels < 1 || opt_.near_out_panels > 8)
+    throw std::invalid_argument("BoundaryOperators: near_out_panels must be in 1..8");
+  if (opt_.n_radial_inner > 0 && !(opt_.own_split > 0.0 && opt_.own_split < 1.0 &&
+                                   opt_.own_grading > 0.0))
+    throw std::invalid_argument("BoundaryOperators: own_split must be in (0, 1), own_grading > 0");
   if (opt_.n_edge > kMaxEdge || opt_.n_edge_near > kMaxEdge)
     throw std::invalid_argument("BoundaryOperators: n_edge / n_edge_near > 256");
   const VectorXd& xi = mesh.nodes();
@@ -745,10 +760,16 @@ BoundaryOperators::BoundaryOperators(const geometry::Mesh& mesh, QuadratureOptio
     if (it == gauss.end()) it = gauss.emplace(n, spectral::gauss_legendre(n)).first;
     return it->second;
   };
-  const double hu0[4] = {0, 0, 0, 0};
+  // own radial rule: graded inner panel [0, own_split] (n_radial_inner points, scale
+  // own_grading) and Gauss on [own_split, 1]; plain Gauss on [0, 1] when n_radial_inner = 0
+  const bool graded = opt_.n_radial_inner > 0;
+  const double grade = graded ? opt_.own_grading : 0.0;
+  const double hu_own[4] = {grade, grade, grade, grade};
   auto make_rule = [&](int ic, int jc, int n_e, int n_r) {
     Rule r;
-    polar_rule(xi[ic], xi[jc], hu0, gl(n_e), gl(n_r), r);
+    const RadialOpt ro{graded ? &gl(opt_.n_radial_inner) : nullptr, &gl(n_r),
+                       graded ? opt_.own_split : 0.0, 1};
+    polar_rule(xi[ic], xi[jc], hu_own, gl(n_e), gl(n_r), r, ro);
     fill_bases(mesh, r);
     return r;
   };
@@ -1047,7 +1068,8 @@ void BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens,
   const spectral::Rule grn = spectral::gauss_legendre(opt_.n_radial_near);
   const spectral::Rule grn_out = spectral::gauss_legendre(opt_.n_radial_near_out);
   // near rule: 4 edges x n_radial_near x panels (asinh(1/hu) <= asinh(1e14) < 6 * 6) lines
-  const int max_near_lines = 4 * (opt_.n_radial_near * 6 + opt_.n_radial_near_out);
+  const int max_near_lines =
+      4 * (opt_.n_radial_near * 6 + opt_.n_radial_near_out * opt_.near_out_panels);
   int max_lines = max_near_lines, max_line = 2 * opt_.n_edge_near;
   for (const Rule& r : rules_) {
     max_lines = std::max(max_lines, r.nl());
@@ -1123,7 +1145,7 @@ void BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens,
             hu[ei] = h / jv;
             if (hu[ei] < 1e-13) hu[ei] = 0.0;
           }
-          const RadialOpt ro{&grn, &grn_out, opt_.near_split};
+          const RadialOpt ro{&grn, &grn_out, opt_.near_split, opt_.near_out_panels};
           polar_rule(s, t, hu, gen, grn, sc.near, ro);
           fill_bases(mesh, sc.near);
           load_element(nb, K, x, sdens, e * nb2, nullptr, sc);
@@ -1246,6 +1268,7 @@ QuadratureOptions scale_orders(const QuadratureOptions& resolved, const OrderSca
   up(q.nq_mid, k.mid > 0 ? k.mid : k.far);
   up(q.n_edge, k.own);
   up(q.n_radial, k.own);
+  if (q.n_radial_inner > 0) up(q.n_radial_inner, k.own);
   up(q.n_edge_near, k.near);
   up(q.n_radial_near, k.near);
   up(q.n_radial_near_out, k.near);

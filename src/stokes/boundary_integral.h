@@ -14,8 +14,10 @@
 //    the node's coincidence class: 1, 2, 3 or 4): [-1,1]^2 is split by the perpendiculars from
 //    p0 to the 4 edges into right triangles (8 interior, 4 on an edge, 2 at a corner); in each,
 //    the edge coordinate is s = d sinh(tau) (d = distance from p0 to that edge) with
-//    `n_edge` Gauss points in tau, and the ray p0 -> edge point has `n_radial` Gauss points in
-//    the fraction u (polar Jacobian u d ds du cancels 1/r; Muldowney & Higdon 1995).
+//    `n_edge` Gauss points in tau, and the ray p0 -> edge point has a graded panel on
+//    [0, own_split] (u = own_grading sinh(sigma), `n_radial_inner` points) and `n_radial` Gauss
+//    points on [own_split, 1] in the fraction u (polar Jacobian u d ds du cancels 1/r;
+//    Muldowney & Higdon 1995).
 //    Points and weights depend only on p0, i.e. on the node's (i, j) in the element, so these
 //    rules and the Lagrange weights (1-D bases and derivatives) at their points are
 //    precomputed once per mesh in this object, for the (i, j) up to the 8 symmetries of the
@@ -27,7 +29,8 @@
 //    split at u1 = near_split: [0, u1] with u = hu sinh(sigma) (`n_radial_near` Gauss points
 //    in sigma, panels of length <= 6), hu = h / max |J v| over the rays v to the edge's ends
 //    (J = [x_xi x_eta] at p*; hu bounds the near-singular scale of every ray of that edge);
-//    [u1, 1] with `n_radial_near_out` Gauss points in u (the sinh map alone under-resolves the
+//    [u1, 1] with `near_out_panels` panels (lengths growing by 2) of `n_radial_near_out` Gauss
+//    points in u (the sinh map alone under-resolves the
 //    polynomial part far from p*). `n_edge_near` points in tau. Recomputed per call.
 //  * far elements: Gauss-Legendre, nq_mid x nq_mid for near_factor <= h/size < mid_factor
 //    (h from the Newton above), nq_far x nq_far beyond (bounding-sphere test).
@@ -65,13 +68,24 @@ struct QuadratureOptions {
   // INT T.n dS at interior and next-to-edge nodes) and against a high-order reference on
   // deformed shapes (tests/stokes/test_stokes_accuracy.cpp: <= 2.5e-8 relative at NE=6 NB=10).
   int nq_far = 0;         // Gauss-Legendre per direction on far elements; 0 -> (3nb+19)/2
-  int nq_mid = 0;         // ... on elements at near_factor..mid_factor sizes; 0 -> 2 nb + 4
+  int nq_mid = 0;         // ... on elements at near_factor..mid_factor sizes; 0 -> 3 nb + 2
   int n_edge = 0;         // own element: points along the edge coordinate; 0 -> 2 nb
                           // (3 nb if some element is longer than 2:1, as the NE=14 rows)
-  int n_radial = 0;       // own element: points along each ray; 0 -> nb + 4
-  int n_edge_near = 0;    // near elements: along the edge; 0 -> nb + 2 (2 nb if > 2:1)
+  // Own element, along each ray: a graded inner panel [0, own_split] (u = own_grading
+  // sinh(sigma), n_radial_inner Gauss points in sigma) and n_radial Gauss points on
+  // [own_split, 1]; n_radial_inner = 0: plain Gauss in u on [0, 1] (the rule before
+  // 2026-12-02, which left 4e-5 .. 2.5e-3 relative error in SL[f] at deformed capsule states
+  // against 3e-7 .. 5e-5 now: docs/performance.md, "Own and near radial rules").
+  int n_radial_inner = -1;  // -1 -> nb + 2
+  int n_radial = 0;         // 0 -> nb (graded) or nb + 4 (plain)
+  double own_split = 0.5;
+  double own_grading = 0.2;
+  int n_edge_near = 0;    // near elements: along the edge; 0 -> nb + 6 (2 nb if > 2:1)
   int n_radial_near = 0;  // near elements: sinh panel [0, near_split] of each ray; 0 -> nb
-  int n_radial_near_out = 0;  // near elements: Gauss panel [near_split, 1]; 0 -> nb
+  // near elements: near_out_panels Gauss panels on [near_split, 1] (lengths growing by 2),
+  // n_radial_near_out points each; 0 -> max(4, nb - 2)
+  int n_radial_near_out = 0;
+  int near_out_panels = 2;
   double near_split = 0.3;    // ray fraction where the near radial rule switches (<= 0: none)
   double near_factor = 0.2;   // near when dist(x0, E) < near_factor * size(E)
   double mid_factor = 0.5;    // nq_mid when dist(x0, E) < mid_factor * size(E)
