@@ -217,8 +217,9 @@ def shear_table(exe, reuse, only):
                 return sum(v) / len(v), (max(v) - min(v)) / 2
             (d, dd), (incl, di) = mr("D"), mr("inclination_deg")
             (l, _), (sm, _), (w, _) = mr("L"), mr("S"), mr("W")
-            print("| %g | %s | none by t=%.2f (%s); mean over the last 5: | %.4f +- %.4f | %.4f | %.4f | %.4f | %.2f +- %.2f | %.1e | %s |" % (
-                ca, resolution(cfg, rdir), e["t"], e["reason"], d, dd, l, sm, w, incl, di, e["drift"], fmt_wall(e["wall"])))
+            span = rows[-1]["t"] - rows[0]["t"]  # < 5 when the run is shorter
+            print("| %g | %s | none by t=%.2f (%s); mean over the last %.3g: | %.4f +- %.4f | %.4f | %.4f | %.4f | %.2f +- %.2f | %.1e | %s |" % (
+                ca, resolution(cfg, rdir), e["t"], e["reason"], round(span, 2), d, dd, l, sm, w, incl, di, e["drift"], fmt_wall(e["wall"])))
             continue
         if why:
             print("| %g | %s | %s | | | | | | | |" % (ca, resolution(cfg, rdir), why))
