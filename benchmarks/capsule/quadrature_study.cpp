@@ -16,26 +16,23 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
-#include <filesystem>
+#include <map>
 #include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
-#include "app/simulation.h"
 #include "capsule/capsule.h"
-#include "control/control_file.h"
-#include "output/checkpoint.h"
+#include "checkpoint_state.h"
 
 using namespace capflow;
 
 namespace {
 
-stokes::QuadratureOptions variant(const std::string& spec, const geometry::Mesh& mesh) {
-  const stokes::QuadratureOptions def = stokes::BoundaryOperators(mesh).options();
+stokes::QuadratureOptions variant(const std::string& spec, const stokes::QuadratureOptions& def,
+                                  int nb) {
   stokes::QuadratureOptions o = def;
   if (spec == "default") return o;
-  const int nb = mesh.nb();
   if (spec == "before") {
     o.n_radial_inner = 0;
     o.n_radial = nb + 4;
@@ -45,6 +42,16 @@ stokes::QuadratureOptions variant(const std::string& spec, const geometry::Mesh&
     o.nq_mid = 2 * nb + 4;
     return o;
   }
+  using Q = stokes::QuadratureOptions;
+  static const std::map<std::string, int Q::*> ints = {
+      {"n_edge", &Q::n_edge}, {"n_radial_inner", &Q::n_radial_inner}, {"n_radial", &Q::n_radial},
+      {"n_edge_near", &Q::n_edge_near}, {"n_radial_near", &Q::n_radial_near},
+      {"n_radial_near_out", &Q::n_radial_near_out}, {"near_out_panels", &Q::near_out_panels},
+      {"nq_far", &Q::nq_far}, {"nq_mid", &Q::nq_mid}};
+  static const std::map<std::string, double Q::*> reals = {
+      {"own_split", &Q::own_split}, {"own_grading", &Q::own_grading},
+      {"near_split", &Q::near_split}, {"near_factor", &Q::near_factor},
+      {"mid_factor", &Q::mid_factor}};
   std::stringstream ss(spec);
   std::string item;
   while (std::getline(ss, item, ',')) {
@@ -52,21 +59,8 @@ stokes::QuadratureOptions variant(const std::string& spec, const geometry::Mesh&
     if (eq == std::string::npos) throw std::invalid_argument("variant item without '=': " + item);
     const std::string k = item.substr(0, eq);
     const double v = std::stod(item.substr(eq + 1));
-    const int iv = static_cast<int>(v);
-    if (k == "n_edge") o.n_edge = iv;
-    else if (k == "n_radial_inner") o.n_radial_inner = iv;
-    else if (k == "n_radial") o.n_radial = iv;
-    else if (k == "own_split") o.own_split = v;
-    else if (k == "own_grading") o.own_grading = v;
-    else if (k == "n_edge_near") o.n_edge_near = iv;
-    else if (k == "n_radial_near") o.n_radial_near = iv;
-    else if (k == "n_radial_near_out") o.n_radial_near_out = iv;
-    else if (k == "near_out_panels") o.near_out_panels = iv;
-    else if (k == "near_split") o.near_split = v;
-    else if (k == "near_factor") o.near_factor = v;
-    else if (k == "mid_factor") o.mid_factor = v;
-    else if (k == "nq_far") o.nq_far = iv;
-    else if (k == "nq_mid") o.nq_mid = iv;
+    if (const auto i = ints.find(k); i != ints.end()) o.*(i->second) = static_cast<int>(v);
+    else if (const auto r = reals.find(k); r != reals.end()) o.*(r->second) = v;
     else throw std::invalid_argument("unknown variant key: " + k);
   }
   return o;
@@ -83,17 +77,11 @@ int run(int argc, char** argv) {
     std::fprintf(stderr, "usage: %s [--check-ref K] RUN_DIR|CKPT VARIANT...\n", argv[0]);
     return 2;
   }
-  std::string path = argv[a++];
-  if (std::filesystem::is_directory(path)) path = app::Simulation::latest_checkpoint(path);
-  if (path.empty()) throw std::runtime_error("no checkpoint found");
-  const output::Checkpoint ck = output::Checkpoint::read(path);
-  const control::ControlOptions opt =
-      control::parse_control(ck.text("control"), path + " (stored control)").options;
-  const geometry::Mesh mesh(opt.mesh.elements, opt.mesh.nb);
+  const study::CheckpointState state = study::load_checkpoint_state(argv[a++]);
+  const geometry::Mesh& mesh = *state.mesh;
+  const Eigen::Matrix3Xd& x = state.x;
   const long n = mesh.num_local();
-  const auto& xv = ck.doubles("x", 3 * n);
-  const Eigen::Matrix3Xd x = Eigen::Map<const Eigen::Matrix3Xd>(xv.data(), 3, n);
-  const capsule::Capsule cap(mesh, opt.law, opt.flow, control::dynamics_options(opt));
+  const capsule::Capsule cap(mesh, state.opt.law, state.opt.flow, control::dynamics_options(state.opt));
   const Eigen::Matrix3Xd f = cap.traction(x);
   std::vector<int> targets(n);
   for (int m = 0; m < n; ++m) targets[m] = m;
@@ -101,8 +89,8 @@ int run(int argc, char** argv) {
   Eigen::Matrix3Xd ref;
   stokes::BoundaryOperators(mesh, stokes::scale_orders(def, {3, 3, 3})).single_layer(x, f, targets, ref);
   const double scale = ref.colwise().norm().maxCoeff();
-  std::printf("%s: NE=%d NB=%d t=%.3f, %ld nodes, max|SL| %.3f\n", path.c_str(), mesh.ne(),
-              mesh.nb(), ck.scalar("t"), n, scale);
+  std::printf("%s: NE=%d NB=%d t=%.3f, %ld nodes, max|SL| %.3f\n", state.path.c_str(), mesh.ne(),
+              mesh.nb(), state.ck.scalar("t"), n, scale);
   if (check_ref > 0) {
     Eigen::Matrix3Xd ref2;
     stokes::BoundaryOperators(mesh, stokes::scale_orders(def, {check_ref, check_ref, check_ref}))
@@ -112,7 +100,7 @@ int run(int argc, char** argv) {
   }
   omp_set_num_threads(1);
   for (; a < argc; ++a) {
-    const stokes::BoundaryOperators op(mesh, variant(argv[a], mesh));
+    const stokes::BoundaryOperators op(mesh, variant(argv[a], def, mesh.nb()));
     Eigen::Matrix3Xd v;
     std::vector<double> ms;
     for (int r = 0; r < 5; ++r) {

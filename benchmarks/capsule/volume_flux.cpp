@@ -17,11 +17,10 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstdio>
-#include <filesystem>
 #include <stdexcept>
 #include <string>
 
-#include "app/simulation.h"
+#include "checkpoint_state.h"
 #include "capsule/capsule.h"
 #include "control/control_file.h"
 #include "control/schedule.h"
@@ -29,16 +28,8 @@
 #include "output/checkpoint.h"
 
 using namespace capflow;
-namespace fs = std::filesystem;
 
 namespace {
-
-std::string newest_checkpoint(const std::string& arg) {
-  if (!fs::is_directory(arg)) return arg;
-  const std::string best = app::Simulation::latest_checkpoint(arg);
-  if (best.empty()) throw std::runtime_error(arg + ": no checkpoint in checkpoints/");
-  return best;
-}
 
 constexpr double kRefScale = 3.0;
 
@@ -48,14 +39,12 @@ struct Variant {
 };
 
 int run(const std::string& arg, const Variant& var) {
-  const std::string path = newest_checkpoint(arg);
-  const output::Checkpoint ck = output::Checkpoint::read(path);
-  const control::ControlOptions opt =
-      control::parse_control(ck.text("control"), path + " (stored control)").options;
-  const geometry::Mesh mesh(opt.mesh.elements, opt.mesh.nb);
-  const long n = mesh.num_local();
-  const auto& xv = ck.doubles("x", 3 * n);
-  const Eigen::Matrix3Xd x = Eigen::Map<const Eigen::Matrix3Xd>(xv.data(), 3, n);
+  const study::CheckpointState state = study::load_checkpoint_state(arg);
+  const std::string& path = state.path;
+  const output::Checkpoint& ck = state.ck;
+  const control::ControlOptions& opt = state.opt;
+  const geometry::Mesh& mesh = *state.mesh;
+  const Eigen::Matrix3Xd& x = state.x;
   const double t = ck.scalar("t");
   control::CaScheduler schedule(opt.ca, opt.steady, 0.0);
   schedule.restore(ck.doubles("schedule"));
