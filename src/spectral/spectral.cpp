@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace capflow::spectral {
 
@@ -118,6 +119,7 @@ VectorXd barycentric_weights(const VectorXd& nodes) {
 void lagrange_basis(const VectorXd& nodes, const VectorXd& bw, double t, double* l,
                     double* dl) {
   const int n = static_cast<int>(nodes.size());
+  check_n(n, 1, "lagrange_basis");
   for (int j = 0; j < n; ++j) {
     if (t == nodes[j]) {
       // At a node: l is a unit vector; l_k'(x_j) comes from the differentiation formula.
@@ -134,40 +136,100 @@ void lagrange_basis(const VectorXd& nodes, const VectorXd& bw, double t, double*
       return;
     }
   }
-  // Barycentric form p(t) = sum a_j f_j / sum a_j, a_j = w_j/(t-x_j); its derivative
-  // p'(t) = sum_j a_j (p(t) - f_j)/(t - x_j) / sum a_j keeps full accuracy near nodes.
-  double s = 0.0;
+  // Barycentric form: l_j(t) = a_j / S, a_j = w_j/(t-x_j), S = sum_k a_k. Its derivative is
+  //   l_j'(t) = l_j(t) (T - 1/(t-x_j)),  T = sum_k l_k(t)/(t-x_k).
+  // Near a node x_m, T and 1/(t-x_m) are both ~1/(t-x_m) and their difference cancels
+  // (error ~ eps/|t-x_m|) - but only for j = m: for j != m the product l_j (T - 1/(t-x_j)) of
+  // a small and a large factor is accurate. So l_m' is taken from sum_j l_j' = 0 instead
+  // (O(n), accurate to ~1e-14 at any distance from the nodes: tests/spectral).
+  double s = 0.0, nearest = 3.0;
+  int m = 0;
+  double inv[kMaxN];
   for (int j = 0; j < n; ++j) {
-    l[j] = bw[j] / (t - nodes[j]);
+    const double d = t - nodes[j];
+    if (std::abs(d) < nearest) {
+      nearest = std::abs(d);
+      m = j;
+    }
+    inv[j] = 1.0 / d;
+    l[j] = bw[j] * inv[j];
     s += l[j];
   }
-  for (int j = 0; j < n; ++j) l[j] /= s;
-  if (!dl) return;
-  double nearest = 2.0;
-  for (int j = 0; j < n; ++j) nearest = std::min(nearest, std::abs(t - nodes[j]));
-  if (nearest < 1e-2) {
-    // Near a node the closed form below cancels catastrophically (error ~ eps/|t - x_j|).
-    // Use instead that p' (degree n-2) equals its own interpolant:
-    //   l_k'(t) = sum_m l_m(t) D(m, k),  D(m, k) = l_k'(x_m)   (exact, O(n^2)).
-    for (int k = 0; k < n; ++k) dl[k] = 0.0;
-    for (int m = 0; m < n; ++m) {
-      double diag = 0.0;
-      for (int k = 0; k < n; ++k) {
-        if (k == m) continue;
-        const double dmk = (bw[k] / bw[m]) / (nodes[m] - nodes[k]);
-        dl[k] += l[m] * dmk;
-        diag -= dmk;
-      }
-      dl[m] += l[m] * diag;
-    }
-    return;
+  double T = 0.0;
+  for (int j = 0; j < n; ++j) {
+    l[j] /= s;
+    T += l[j] * inv[j];
   }
-  {
-    // l_k'(t) = (sum_j a_j (l_k(t) - delta_jk)/(t-x_j)) / S,  a_j = w_j/(t-x_j)
-    double q = 0.0;  // sum_j a_j/(t-x_j) / S
-    for (int j = 0; j < n; ++j) q += (bw[j] / (t - nodes[j])) / (t - nodes[j]);
-    q /= s;
-    for (int k = 0; k < n; ++k) dl[k] = l[k] * q - (bw[k] / (t - nodes[k])) / (t - nodes[k]) / s;
+  if (!dl) return;
+  double sum = 0.0;
+  for (int j = 0; j < n; ++j) {
+    dl[j] = l[j] * (T - inv[j]);
+    sum += dl[j];
+  }
+  dl[m] -= sum;
+}
+
+VectorXd product_weights(const VectorXd& nodes) {
+  const int n = static_cast<int>(nodes.size());
+  check_n(n, 1, "product_weights");
+  VectorXd c(n);
+  for (int j = 0; j < n; ++j) {
+    double prod = 1.0;
+    for (int k = 0; k < n; ++k)
+      if (k != j) prod *= nodes[j] - nodes[k];
+    if (prod == 0.0) throw std::invalid_argument("product_weights: coincident nodes");
+    c[j] = 1.0 / prod;
+  }
+  return c;
+}
+
+// Compiled twice (x86-64-v3 with AVX2/FMA and the default), chosen at load time: the stokes
+// special quadrature rules evaluate their bases with it on every call.
+__attribute__((target_clones("arch=x86-64-v3", "default"))) void lagrange_bases(
+    const VectorXd& nodes, const VectorXd& c, const double* t, int np, double* L, double* dL,
+    long ld) {
+  const int n = static_cast<int>(nodes.size());
+  if (c.size() != n || ld < np) throw std::invalid_argument("lagrange_bases: bad sizes");
+  thread_local std::vector<double> scratch;
+  if (scratch.size() < 2 * static_cast<size_t>(np)) scratch.resize(2 * static_cast<size_t>(np));
+  double* __restrict P = scratch.data();  // running product prod_{k < j} (t - x_k), then suffix
+  double* __restrict dP = P + np;         // its derivative
+  const double* __restrict tp = t;
+  // Prefix pass: column j <- prod_{k < j} (t - x_k) and its derivative.
+  for (int p = 0; p < np; ++p) {
+    P[p] = 1.0;
+    dP[p] = 0.0;
+  }
+  for (int j = 0; j < n; ++j) {
+    double* __restrict Lj = L + j * ld;
+    double* __restrict dLj = dL + j * ld;
+    const double xj = nodes[j];
+#pragma omp simd
+    for (int p = 0; p < np; ++p) {
+      Lj[p] = P[p];
+      dLj[p] = dP[p];
+      const double d = tp[p] - xj;
+      dP[p] = dP[p] * d + P[p];
+      P[p] *= d;
+    }
+  }
+  // Suffix pass: times prod_{k > j} (t - x_k) (product rule for the derivative) and c_j.
+  for (int p = 0; p < np; ++p) {
+    P[p] = 1.0;
+    dP[p] = 0.0;
+  }
+  for (int j = n - 1; j >= 0; --j) {
+    double* __restrict Lj = L + j * ld;
+    double* __restrict dLj = dL + j * ld;
+    const double xj = nodes[j], cj = c[j];
+#pragma omp simd
+    for (int p = 0; p < np; ++p) {
+      dLj[p] = cj * (dLj[p] * P[p] + Lj[p] * dP[p]);
+      Lj[p] = cj * Lj[p] * P[p];
+      const double d = tp[p] - xj;
+      dP[p] = dP[p] * d + P[p];
+      P[p] *= d;
+    }
   }
 }
 

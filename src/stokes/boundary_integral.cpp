@@ -137,118 +137,31 @@ void polar_rule(double s0, double t0, const double* hu, const spectral::Rule& ge
   R.start.push_back(static_cast<int>(R.o.size()));
 }
 
-// Lagrange basis l_j(t) and l_j'(t) through the Gauss-Lobatto nodes (barycentric form).
-// Far from the nodes the derivative uses l_j' = l_j (sum_k l_k/(t - x_k) - 1/(t - x_j))
-// (relative error ~ eps / min |t - x_k|); within 2e-3 of a node it uses l' = D^T l (D the
-// differentiation matrix, exact for the degree nb-2 derivative).
-void basis(const geometry::Mesh& mesh, double t, double* l, double* dl) {
-  const int n = mesh.nb();
-  const double* x = mesh.nodes().data();
-  const double* bw = mesh.bary().data();
-  double inv[kMaxNb];
-  double nearest = 2.0;
-  for (int j = 0; j < n; ++j) nearest = std::min(nearest, std::abs(t - x[j]));
-  if (nearest == 0.0) {
-    spectral::lagrange_basis(mesh.nodes(), mesh.bary(), t, l, dl);
-    return;
-  }
-  double S = 0.0;
-  for (int j = 0; j < n; ++j) {
-    inv[j] = 1.0 / (t - x[j]);
-    l[j] = bw[j] * inv[j];
-    S += l[j];
-  }
-  const double iS = 1.0 / S;
-  double T = 0.0;
-  for (int j = 0; j < n; ++j) {
-    l[j] *= iS;
-    T += l[j] * inv[j];
-  }
-  if (nearest >= 2e-3) {
-    for (int j = 0; j < n; ++j) dl[j] = l[j] * (T - inv[j]);
-  } else {
-    const MatrixXd& D = mesh.diff();  // D(m, k) = l_k'(x_m)
-    for (int k = 0; k < n; ++k) {
-      const double* col = D.col(k).data();
-      double v = 0.0;
-      for (int m = 0; m < n; ++m) v += l[m] * col[m];
-      dl[k] = v;
-    }
-  }
+// Lagrange basis l_j(t) and l_j'(t) through the element's Gauss-Lobatto nodes.
+inline void basis(const geometry::Mesh& mesh, double t, double* l, double* dl) {
+  spectral::lagrange_basis(mesh.nodes(), mesh.bary(), t, l, dl);
 }
 
-// Bases of a line rule (Lc, dLc at the line coordinates; LoT, dLoT at the points). The
-// matrices are resized only when they are too small (scratch reuse). Cloned like single_line.
-__attribute__((target_clones("arch=x86-64-v3", "default"))) void fill_bases(const geometry::Mesh& mesh, LineRule& R) {
+// Bases of a line rule: Lc, dLc at the line coordinates and, if `points`, LoT, dLoT at the
+// points (spectral::lagrange_bases, product weights c). The matrices are resized only when they
+// are too small (scratch reuse). Without `points` the single layer evaluates the point bases
+// line by line while it sums (line_sum: they stay in L1 instead of a rule-sized array).
+void fill_bases(const geometry::Mesh& mesh, const VectorXd& c, LineRule& R, bool points = true) {
   const int nb = mesh.nb(), nl = R.nl(), np = R.np();
   if (R.Lc.cols() < nl) {
     R.Lc.resize(nb, nl);
     R.dLc.resize(nb, nl);
   }
   for (int l = 0; l < nl; ++l) basis(mesh, R.c[l], R.Lc.col(l).data(), R.dLc.col(l).data());
+  if (!points) return;
   if (R.LoT.rows() < np + 4) {  // leading dimension = rows >= np + 4 (blocks of 4 points)
     R.LoT.resize(np + 4, nb);
     R.dLoT.resize(np + 4, nb);
     R.LoT.bottomRows(4).setZero();
     R.dLoT.bottomRows(4).setZero();
   }
-  // Point bases, vectorised over the points (column j of LoT is contiguous): barycentric form
-  // with the closed-form derivative; points within 2e-3 of a node are redone by basis().
-  const long ld = R.LoT.rows();
-  double* __restrict L = R.LoT.data();
-  double* __restrict dL = R.dLoT.data();
-  thread_local std::vector<double> tmp;
-  if (tmp.size() < 3 * static_cast<size_t>(np)) tmp.resize(3 * static_cast<size_t>(np));
-  double* __restrict S = tmp.data();
-  double* __restrict T = S + np;
-  double* __restrict mind = S + 2 * np;
-  const double* __restrict o = R.o.data();
-  const double* xn = mesh.nodes().data();
-  const double* bw = mesh.bary().data();
-  for (int p = 0; p < np; ++p) {
-    S[p] = 0.0;
-    T[p] = 0.0;
-    mind[p] = 2.0;
-  }
-  for (int j = 0; j < nb; ++j) {
-    double* __restrict Lj = L + ld * j;
-    double* __restrict dLj = dL + ld * j;
-    const double xj = xn[j], bj = bw[j];
-#pragma omp simd
-    for (int p = 0; p < np; ++p) {
-      const double d = o[p] - xj;
-      const double inv = 1.0 / d;
-      mind[p] = std::min(mind[p], std::abs(d));
-      dLj[p] = inv;
-      Lj[p] = bj * inv;
-      S[p] += Lj[p];
-    }
-  }
-  for (int p = 0; p < np; ++p) S[p] = 1.0 / S[p];
-  for (int j = 0; j < nb; ++j) {
-    double* __restrict Lj = L + ld * j;
-    const double* __restrict dLj = dL + ld * j;
-#pragma omp simd
-    for (int p = 0; p < np; ++p) {
-      Lj[p] *= S[p];
-      T[p] += Lj[p] * dLj[p];
-    }
-  }
-  for (int j = 0; j < nb; ++j) {
-    const double* __restrict Lj = L + ld * j;
-    double* __restrict dLj = dL + ld * j;
-#pragma omp simd
-    for (int p = 0; p < np; ++p) dLj[p] = Lj[p] * (T[p] - dLj[p]);
-  }
-  double l[kMaxNb], dl[kMaxNb];
-  for (int p = 0; p < np; ++p) {
-    if (mind[p] >= 2e-3) continue;
-    basis(mesh, o[p], l, dl);
-    for (int j = 0; j < nb; ++j) {
-      L[p + ld * j] = l[j];
-      dL[p + ld * j] = dl[j];
-    }
-  }
+  spectral::lagrange_bases(mesh.nodes(), c, R.o.data(), np, R.LoT.data(), R.dLoT.data(),
+                           R.LoT.rows());
 }
 
 // Nearest point of element e to x0 (Newton from the nearest node, clipped to the square).
@@ -400,7 +313,15 @@ struct Scratch {
   RowMat D0, D1;  // element data, nb x (K nb): D0(i, k nb + j) = D1(j, k nb + i) = X_k(i, j)
   RowMat A, B;      // stage 1: values / derivative across, per line
   std::vector<double> v;  // stage 2 per line: 12 arrays of the line's length
+  std::vector<double> lb;  // per-line point bases of a rule without stored ones (2 ld nb)
   LineRule near;
+};
+
+// Where line_sum finds the point bases: stored in the rule (nodes == nullptr), or computed
+// line by line from the element's nodes and product weights (single layer only).
+struct PointBases {
+  const VectorXd* nodes = nullptr;
+  const VectorXd* c = nullptr;
 };
 
 // Element data (x and, if K == 6, the density) in the orientation given by perm (canonical
@@ -522,7 +443,7 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void stage1(
 // Lc^T D: lines x (K nb)); stage 2: per point, length-nb dot products along the line.
 template <BoundaryOperators::Mode M>
 void line_sum(int nb, int K, const LineRule& R, double sign, const Vector3d& x0,
-              const Vector3d& u0, Scratch& sc, double* acc) {
+              const Vector3d& u0, Scratch& sc, double* acc, const PointBases& pb = {}) {
   using Mode = BoundaryOperators::Mode;
   const int nl = R.nl(), n0 = R.n0, n1 = nl - n0;
   const int Kn = K * nb, n3 = 3 * nb;
@@ -556,9 +477,23 @@ void line_sum(int nb, int K, const LineRule& R, double sign, const Vector3d& x0,
     for (int l = 0; l < nl; ++l) {
       const int p0 = R.start[l], m = R.start[l + 1] - p0;
       if (m == 0) continue;
-      single_line(nb, m, sc.A.row(l).data(), sc.B.row(l).data(), R.LoT.data() + p0,
-                  R.dLoT.data() + p0, ld, R.w.data() + p0, l < n0 ? sign : -sign, x0.data(),
-                  sc.v.data(), acc);
+      const double *lo = R.LoT.data() + p0, *dlo = R.dLoT.data() + p0;
+      long ldl = ld;
+      if (pb.nodes) {
+        // single_line reads whole blocks of 4 points: rows m .. ldl-1 stay zero
+        ldl = (m + 3) & ~3;
+        const size_t need = 2 * static_cast<size_t>(ldl) * nb;
+        if (sc.lb.size() < need) sc.lb.assign(need, 0.0);
+        double* L = sc.lb.data();
+        double* dL = L + ldl * nb;
+        spectral::lagrange_bases(*pb.nodes, *pb.c, R.o.data() + p0, m, L, dL, ldl);
+        for (int j = 0; j < nb; ++j)
+          for (long q = m; q < ldl; ++q) L[q + j * ldl] = dL[q + j * ldl] = 0.0;
+        lo = L;
+        dlo = dL;
+      }
+      single_line(nb, m, sc.A.row(l).data(), sc.B.row(l).data(), lo, dlo, ldl,
+                  R.w.data() + p0, l < n0 ? sign : -sign, x0.data(), sc.v.data(), acc);
     }
   } else {
     for (int l = 0; l < nl; ++l) {
@@ -708,7 +643,7 @@ void line_sum_jf(int nb, const LineRule& R, double sign, const Vector3d& x0, Scr
 }  // namespace
 
 BoundaryOperators::BoundaryOperators(const geometry::Mesh& mesh, QuadratureOptions options)
-    : mesh_(mesh), opt_(options) {
+    : mesh_(mesh), opt_(options), prod_w_(spectral::product_weights(mesh.nodes())) {
   const int nb = mesh.nb();
   if (nb > kMaxNb) throw std::invalid_argument("BoundaryOperators: nb too large");
   // Far order: a capsule's traction carries its full degree nb-1 (it comes from second
@@ -770,7 +705,7 @@ BoundaryOperators::BoundaryOperators(const geometry::Mesh& mesh, QuadratureOptio
     const RadialOpt ro{graded ? &gl(opt_.n_radial_inner) : nullptr, &gl(n_r),
                        graded ? opt_.own_split : 0.0, 1};
     polar_rule(xi[ic], xi[jc], hu_own, gl(n_e), gl(n_r), r, ro);
-    fill_bases(mesh, r);
+    fill_bases(mesh, prod_w_, r);
     return r;
   };
 
@@ -1147,12 +1082,15 @@ void BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens,
           }
           const RadialOpt ro{&grn, &grn_out, opt_.near_split, opt_.near_out_panels};
           polar_rule(s, t, hu, gen, grn, sc.near, ro);
-          fill_bases(mesh, sc.near);
+          // the single layer evaluates the near rule's point bases line by line
+          const bool per_line = M == Mode::Single && !jf;
+          fill_bases(mesh, prod_w_, sc.near, !per_line);
           load_element(nb, K, x, sdens, e * nb2, nullptr, sc);
           if (jf)
             line_sum_jf(nb, sc.near, 1.0, x0, sc, acc);
           else
-            line_sum<M>(nb, K, sc.near, 1.0, x0, u0, sc, acc);
+            line_sum<M>(nb, K, sc.near, 1.0, x0, u0, sc, acc,
+                        per_line ? PointBases{&mesh.nodes(), &prod_w_} : PointBases{});
           near_pairs += sc.near.np();
         } else {
           const FarData& fd = far[tier];

@@ -180,6 +180,7 @@ class BoundaryOperators {
   std::vector<int> canon_rule_;    // (i + nb j) -> rule index
   std::vector<int> canon_sym_;     // (i + nb j) -> symmetry bits: 1 flip s, 2 flip t, 4 swap
   std::vector<std::vector<int>> canon_perm_;  // per symmetry (8): canonical (a + nb b) -> actual
+  Eigen::VectorXd prod_w_;  // spectral::product_weights of the element nodes (rule bases)
   mutable OperatorStats stats_;
 };
 

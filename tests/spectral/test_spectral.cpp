@@ -1,7 +1,9 @@
 // Spectral toolkit: exactness on polynomials (the defining property of each rule/operator).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <random>
 
 #include "spectral/spectral.h"
@@ -141,4 +143,86 @@ TEST(Spectral, TensorProductExactOnDegreeNbMinus1) {
       for (int b = 0; b < 4; ++b)
         EXPECT_NEAR(r(a, b), p(sa[a]) * q(tb[b]) + sa[a] * tb[b], 1e-13);
   }
+}
+
+// The O(n) barycentric derivative keeps full accuracy at every distance from a node: the
+// cancellation of l_j' = l_j (T - 1/(t - x_j)) near x_m affects only j = m, which is taken from
+// sum_j l_j' = 0. Derivative of a random degree n-1 polynomial at x_m +- delta, delta from 1e-1
+// down to 1e-14, against its exact derivative; and the basis derivatives sum to zero.
+TEST(Spectral, BasisDerivativeAccurateAtAnyDistanceFromANode) {
+  std::mt19937 rng(777);
+  for (int nb : {4, 8, 12, 16, 24}) {
+    const VectorXd x = gauss_lobatto(nb).x;
+    const VectorXd bw = barycentric_weights(x);
+    const Poly p = random_poly(nb - 1, rng);
+    double worst = 0, worst_sum = 0;
+    std::vector<double> l(nb), dl(nb);
+    for (int m = 0; m < nb; ++m)
+      for (int e = 1; e <= 14; ++e)
+        for (double sign : {-1.0, 1.0}) {
+          const double t = x[m] + sign * std::pow(10.0, -e);
+          if (t < -1.0 || t > 1.0) continue;
+          lagrange_basis(x, bw, t, l.data(), dl.data());
+          double d = 0, s = 0, scale = 0;
+          for (int j = 0; j < nb; ++j) {
+            d += dl[j] * p(x[j]);
+            s += dl[j];
+            scale = std::max(scale, std::abs(dl[j]));
+          }
+          worst = std::max(worst, std::abs(d - p.derivative(t)));
+          worst_sum = std::max(worst_sum, std::abs(s) / scale);
+        }
+    std::printf("nb=%d: max |p'(t) - sum l_j'(t) p_j| = %.1e, max |sum l_j'| / max |l_j'| = %.1e\n",
+                nb, worst, worst_sum);
+    EXPECT_LT(worst, 2e-14 * nb * nb) << "nb=" << nb;
+    EXPECT_LT(worst_sum, 1e-14) << "nb=" << nb;
+  }
+}
+
+// The batch product form of the bases: exact on polynomials of degree nb-1 (value and
+// derivative) at random points, at the nodes themselves and at 1e-1 .. 1e-14 from them, and
+// equal to the single-point barycentric form.
+TEST(Spectral, BatchBasesExactOnPolynomialsAtAndNearNodes) {
+  std::mt19937 rng(4242);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int nb : {2, 4, 8, 12, 16, 24, 32}) {
+    const VectorXd x = gauss_lobatto(nb).x;
+    const VectorXd bw = barycentric_weights(x), c = product_weights(x);
+    const Poly p = random_poly(nb - 1, rng);
+    std::vector<double> t;
+    for (int k = 0; k < 50; ++k) t.push_back(u(rng));
+    for (int m = 0; m < nb; ++m) {
+      t.push_back(x[m]);
+      for (int e = 1; e <= 14; ++e)
+        for (double sign : {-1.0, 1.0}) {
+          const double tt = x[m] + sign * std::pow(10.0, -e);
+          if (tt >= -1.0 && tt <= 1.0) t.push_back(tt);
+        }
+    }
+    const int np = static_cast<int>(t.size());
+    const long ld = np + 3;
+    std::vector<double> L(ld * nb), dL(ld * nb), l(nb), dl(nb);
+    lagrange_bases(x, c, t.data(), np, L.data(), dL.data(), ld);
+    double err_v = 0, err_d = 0, err_single = 0;
+    for (int q = 0; q < np; ++q) {
+      double v = 0, d = 0;
+      lagrange_basis(x, bw, t[q], l.data(), dl.data());
+      for (int j = 0; j < nb; ++j) {
+        v += L[q + j * ld] * p(x[j]);
+        d += dL[q + j * ld] * p(x[j]);
+        err_single = std::max(err_single, std::abs(L[q + j * ld] - l[j]) +
+                                              std::abs(dL[q + j * ld] - dl[j]) / (nb * nb));
+      }
+      err_v = std::max(err_v, std::abs(v - p(t[q])));
+      err_d = std::max(err_d, std::abs(d - p.derivative(t[q])));
+    }
+    std::printf("nb=%d (%d points): value %.1e, derivative %.1e, vs lagrange_basis %.1e\n", nb,
+                np, err_v, err_d, err_single);
+    EXPECT_LT(err_v, 1e-14 * nb) << "nb=" << nb;
+    EXPECT_LT(err_d, 2e-14 * nb * nb) << "nb=" << nb;
+    EXPECT_LT(err_single, 1e-14 * nb) << "nb=" << nb;
+  }
+  EXPECT_THROW(lagrange_bases(gauss_lobatto(4).x, VectorXd::Ones(3), nullptr, 0, nullptr,
+                              nullptr, 0),
+               std::invalid_argument);
 }
