@@ -379,6 +379,7 @@ struct Simulation::Impl {
     const double t = cap->time();
     const double ca_before = schedule->ca(t);
     opt = r.merged;
+    cap->set_volume_correction(opt.numerics.volume_correction);
     if (r.schedule_changed) schedule->replace(opt.ca, opt.steady, t);
     if (opt.numerics.threads > 0) omp_set_num_threads(opt.numerics.threads);
     write_effective_control();

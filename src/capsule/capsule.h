@@ -74,6 +74,9 @@ class Capsule {
   double initial_volume() const { return v0_; }
   // Restores a saved state (restart). Throws std::invalid_argument on a size mismatch.
   void set_state(const Eigen::Matrix3Xd& x, double t, long steps);
+  // Switches the eq. 23 volume correction on or off mid-run (a live control-file edit); when on,
+  // the end of every later step rescales the shape to initial_volume().
+  void set_volume_correction(bool on) { opt_.volume_correction = on; }
 
   // Traction jump at positions x, smoothed if options().smooth_traction.
   Eigen::Matrix3Xd traction(const Eigen::Matrix3Xd& x) const;

@@ -10,7 +10,12 @@
 #include <sys/wait.h>
 
 #include <cstdio>
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
+#include <sstream>
+#include <string>
+#include <vector>
 #include <nlohmann/json.hpp>
 
 #include "test_util.h"
@@ -119,6 +124,53 @@ TEST(Steering, EditsChangeCaFromTheLoggedTimeAndBadEditsAreHarmless) {
   EXPECT_GT(checked, 15);
   // The effective control file holds the last accepted Ca.
   EXPECT_NE(test::read_file(run / "control.json").find("0.7"), std::string::npos);
+  fs::remove_all(d);
+}
+
+// A live edit of numerics.volume_correction reaches the dynamics: from the next step on the
+// shape is rescaled to the initial volume (paper eq. 23), so the relative volume drift of the
+// time series drops from the uncorrected NB=6 leak (~1e-8 by t = 0.04) to round-off.
+TEST(Steering, VolumeCorrectionSwitchedOnMidRunHoldsTheVolume) {
+  const fs::path d = test::fresh_dir("steer_volume");
+  const fs::path ctl = d / "control.json", run = d / "run";
+  test::write_file(ctl, control(0.3));
+  const pid_t pid = spawn({CAPFLOW_EXE, "run", ctl.string(), "-o", run.string()}, d / "stderr.log");
+  ASSERT_TRUE(test::wait_for([&] { return csv_rows(run / "timeseries.csv") >= 25; }, 60));
+  test::write_file(ctl, control(0.3, R"(, "numerics": {"threads": 1, "volume_correction": true})"));
+  ASSERT_TRUE(test::wait_for([&] { return count_events(run, "edit") >= 1; }, 10)) << test::read_file(d / "stderr.log");
+  const long rows_after_edit = csv_rows(run / "timeseries.csv");
+  ASSERT_TRUE(test::wait_for([&] { return csv_rows(run / "timeseries.csv") > rows_after_edit + 10; }, 30));
+  test::write_file(ctl, control(0.3, R"(, "numerics": {"threads": 1, "volume_correction": true}, "run": {"state": "stopped"})"));
+  EXPECT_EQ(wait_exit(pid, 30), 0) << test::read_file(d / "stderr.log");
+
+  double t_edit = -1;
+  for (const auto& e : events(run))
+    if (e["event"] == "edit" && e["accepted"].get<bool>() &&
+        e["applied"].contains("numerics.volume_correction"))
+      t_edit = e["t"];
+  ASSERT_GT(t_edit, 0.02);
+  const std::vector<std::string> lines = test::lines_of(run / "timeseries.csv");
+  int col = -1, k = 0;
+  std::stringstream header(lines.at(0));
+  for (std::string name; std::getline(header, name, ','); ++k)
+    if (name == "volume_drift") col = k;
+  ASSERT_GE(col, 0);
+  double before = 0, after = 0;
+  int n_after = 0;
+  for (size_t i = 1; i < lines.size(); ++i) {
+    if (lines[i].empty()) continue;
+    std::vector<double> v;
+    std::stringstream row(lines[i]);
+    for (std::string cell; std::getline(row, cell, ',');) v.push_back(std::stod(cell));
+    const double t = v.at(0), drift = std::abs(v.at(col));
+    if (t <= t_edit + 1e-9) before = std::max(before, drift);
+    else { after = std::max(after, drift); ++n_after; }
+  }
+  std::printf("volume drift: max %.1e up to the edit at t = %.3f, max %.1e in the %d rows after\n",
+              before, t_edit, after, n_after);
+  EXPECT_GT(before, 1e-10);
+  EXPECT_LT(after, 1e-12);
+  EXPECT_GE(n_after, 10);
   fs::remove_all(d);
 }
 
