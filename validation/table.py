@@ -41,6 +41,7 @@ STRONG = [
     ("strong_nh_ca040_q2", "neo-Hookean, Ca=0.4 from rest, graded own rays (2026-12-02)", "steady, semi-length L ~ 3 (t=40)"),
     ("strong_nh_ca040_nb14_q2", "neo-Hookean, Ca=0.4 at NB=14, graded own rays (2026-12-02)", "steady, semi-length L ~ 3 (t=40)"),
     ("strong_nh_ca040_nb12to14", "neo-Hookean, Ca=0.4: NB=12 from rest to t=20, then NB=14 (present rules)", "steady, semi-length L ~ 3 (t=40)"),
+    ("strong_nh_ca040_nb14_t32", "neo-Hookean, Ca=0.4: the NB=14 run continued from t=32.38", "steady, semi-length L ~ 3 (t=40)"),
 ]
 SHEAR = ["shear_nh_ca00375", "shear_nh_ca00375_ne10", "shear_nh_ca0075", "shear_nh_ca0075_ne10",
          "shear_nh_ca015", "shear_nh_ca015_ne10", "shear_nh_ca015_ne14",
