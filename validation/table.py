@@ -333,7 +333,10 @@ def fig2_table(exe, reuse, only):
             continue
         reached = e["t"] >= cfg["time"]["t_end"] - 1e-9
         corrected = cfg.get("numerics", {}).get("volume_correction", False)
-        verdict = ("stable PASS" if reached else "FAIL (%s)" % e["reason"]) + "; " + (
+        # The acceptance asks for stability to the paper's t=10; a shorter run shows less.
+        stable = ("stable PASS" if e["t"] >= 10 - 1e-9 else
+                  "stable to t=%.2f (short of the paper's t=10)" % e["t"])
+        verdict = (stable if reached else "FAIL (%s)" % e["reason"]) + "; " + (
             corrected_note(e) if corrected else
             "drift PASS" if abs(e["drift"]) <= 1e-6 else "drift FAIL (1e-6)")
         print("| %s | %s | t=%.2f (%s) | %.4f, %.4f | %.1e | %s | %s |" % (
