@@ -42,6 +42,9 @@ STRONG = [
     ("strong_nh_ca040_nb14_q2", "neo-Hookean, Ca=0.4 at NB=14, graded own rays (2026-12-02)", "steady, semi-length L ~ 3 (t=40)"),
     ("strong_nh_ca040_nb12to14", "neo-Hookean, Ca=0.4: NB=12 from rest to t=20, then NB=14 (present rules)", "steady, semi-length L ~ 3 (t=40)"),
     ("strong_nh_ca040_nb14_t32", "neo-Hookean, Ca=0.4: the NB=14 run continued from t=32.38", "steady, semi-length L ~ 3 (t=40)"),
+    ("strong_nh_ca040_nb14_t52", "neo-Hookean, Ca=0.4: the NB=14 run continued from t=52.00", "steady, semi-length L ~ 3 (t=40)"),
+    ("strong_nh_ca040_nb14_extrap", "neo-Hookean, Ca=0.4 at NB=14 from the one-mode extrapolation of its t=51-52 states", "steady, semi-length L ~ 3 (t=40)"),
+    ("strong_nh_ca040_nb14_extrap_hold", "the same, continued past its steady event (steady.stop off)", "steady, semi-length L ~ 3 (t=40)"),
 ]
 SHEAR = ["shear_nh_ca00375", "shear_nh_ca00375_ne10", "shear_nh_ca0075", "shear_nh_ca0075_ne10",
          "shear_nh_ca015", "shear_nh_ca015_ne10", "shear_nh_ca015_ne14",
@@ -118,6 +121,21 @@ def steady_row(rdir):
     return {k: float(v) for k, v in rows[-1].items()} if rows else None
 
 
+def steady_time(rdir, e):
+    """t of the run's last steady event (events.jsonl); the end time when none is logged (a run
+    with steady.stop ends there; with steady.stop off it goes on past it)."""
+    t = e["t"]
+    try:
+        with open(os.path.join(rdir, "events.jsonl")) as f:
+            for line in f:
+                ev = json.loads(line)
+                if ev.get("event") == "steady":
+                    t = float(ev["t"])
+    except (OSError, ValueError, KeyError):
+        pass
+    return t
+
+
 def series(rdir):
     with open(os.path.join(rdir, "timeseries.csv")) as f:
         return [{k: float(v) for k, v in r.items()} for r in csv.DictReader(f)]
@@ -178,7 +196,7 @@ def steady_table(exe, reuse, only):
         okv = abs(e["drift"]) <= 1e-7
         verdict = ("D, L PASS" if ok else "D, L FAIL") + "; " + ("drift PASS" if okv else "drift FAIL")
         print("| %s | %s | %.3f, %.2f | %.4f, %.4f | %+.2f %%, %+.2f %% | %.1e | %.2f | %s | %s |" % (
-            label, resolution(cfg), pd, pl, st["D"], st["L"], 100 * ed, 100 * el, e["drift"], e["t"],
+            label, resolution(cfg), pd, pl, st["D"], st["L"], 100 * ed, 100 * el, e["drift"], steady_time(rdir, e),
             fmt_wall(e["wall"]), verdict))
     print()
 
@@ -201,7 +219,7 @@ def strong_table(exe, reuse, only):
             print("| %s | %s | %s | %s | | | | | | | | | | |" % (label, resolution(cfg, rdir), text, why))
             continue
         print("| %s | %s | %s | %.2f | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f | %.3f | %.3f | %.1e | %s |" % (
-            label, resolution(cfg, rdir), text, e["t"], st["L"], st["S"], st["W"], st["Lc"], st["Sc"], st["Wc"],
+            label, resolution(cfg, rdir), text, steady_time(rdir, e), st["L"], st["S"], st["W"], st["Lc"], st["Sc"], st["Wc"],
             st["edge_curvature"], st["tau_max"], e["drift"], fmt_wall(e["wall"])))
     print()
 
@@ -232,7 +250,7 @@ def shear_table(exe, reuse, only):
             continue
         incl = series(rdir)[-1]["inclination_deg"]
         print("| %g | %s | %.2f | %.4f | %.4f | %.4f | %.4f | %.2f | %.1e | %s |" % (
-            ca, resolution(cfg, rdir), e["t"], st["D"], st["L"], st["S"], st["W"], incl, e["drift"], fmt_wall(e["wall"])))
+            ca, resolution(cfg, rdir), steady_time(rdir, e), st["D"], st["L"], st["S"], st["W"], incl, e["drift"], fmt_wall(e["wall"])))
     print()
 
 
