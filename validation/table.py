@@ -45,6 +45,7 @@ STRONG = [
     ("strong_nh_ca040_nb14_t52", "neo-Hookean, Ca=0.4: the NB=14 run continued from t=52.00", "steady, semi-length L ~ 3 (t=40)"),
     ("strong_nh_ca040_nb14_extrap", "neo-Hookean, Ca=0.4 at NB=14 from the one-mode extrapolation of its t=51-52 states", "steady, semi-length L ~ 3 (t=40)"),
     ("strong_nh_ca040_nb14_extrap_hold", "the same, continued past its steady event (steady.stop off)", "steady, semi-length L ~ 3 (t=40)"),
+    ("strong_nh_ca040_nb16_from14", "neo-Hookean, Ca=0.4: the NB=14 steady state (t=58) resampled onto NB=16", "steady, semi-length L ~ 3 (t=40)"),
 ]
 SHEAR = ["shear_nh_ca00375", "shear_nh_ca00375_ne10", "shear_nh_ca0075", "shear_nh_ca0075_ne10",
          "shear_nh_ca015", "shear_nh_ca015_ne10", "shear_nh_ca015_ne14",
