@@ -52,7 +52,8 @@ int run(const std::string& arg, const Variant& var) {
 
   capsule::DynamicsOptions dyn = control::dynamics_options(opt);
   const stokes::QuadratureOptions run_quadrature =
-      stokes::BoundaryOperators(mesh, dyn.quadrature).options();
+      capsule::Capsule(mesh, opt.law, opt.flow, dyn).quadrature();  // incl. quadrature_scale
+  dyn.quadrature_scale = 1.0;
   dyn.smooth_traction = var.smooth_traction;
   dyn.quadrature = stokes::scale_orders(run_quadrature, var.quad);
   const capsule::Capsule cap(mesh, opt.law, opt.flow, dyn);

@@ -513,7 +513,10 @@ RunSummary Simulation::run(const std::atomic<bool>* stop) {
     m << "capflow run: " << membrane::to_string(o.law.kind) << ", " << o.flow.name() << ", NE="
       << o.mesh.elements << " NB=" << o.mesh.nb << ", dt=" << o.time.dt << ", t_end=" << o.time.t_end
       << ", " << omp_get_max_threads() << " threads, symmetry targets "
-      << s.cap->symmetry().targets().size() << "/" << s.mesh->num_unique() << " -> " << s.dir.string();
+      << s.cap->symmetry().targets().size() << "/" << s.mesh->num_unique();
+    if (o.numerics.quadrature_scale != 1.0)
+      m << ", quadrature orders x" << o.numerics.quadrature_scale;
+    m << " -> " << s.dir.string();
     if (s.watcher)
       m << "; watching " << s.control_source << (s.watcher->using_inotify() ? " (inotify)" : " (polling)");
     s.say(m.str());

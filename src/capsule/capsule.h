@@ -52,6 +52,9 @@ struct DynamicsOptions {
   bool volume_correction = false; // paper eq. 23
   SymmetryChoice symmetry = SymmetryChoice::Auto;  // Auto: octant (planar ext.), quarter (shear)
   stokes::QuadratureOptions quadrature;
+  // Factor on every order of `quadrature` after its defaults are resolved for the mesh
+  // (stokes::scale_orders, far = own = near); 1 leaves the rules unchanged.
+  double quadrature_scale = 1.0;
 };
 
 class Capsule {
@@ -67,6 +70,8 @@ class Capsule {
   const DynamicsOptions& options() const { return opt_; }
   const membrane::Membrane& membrane() const { return *membrane_; }
   const SymmetryMap& symmetry() const { return *symmetry_; }
+  // The quadrature rules in use: the defaults resolved for the mesh, times quadrature_scale.
+  const stokes::QuadratureOptions& quadrature() const { return ops_->options(); }
 
   const Eigen::Matrix3Xd& positions() const { return x_; }
   double time() const { return t_; }

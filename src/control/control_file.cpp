@@ -319,6 +319,7 @@ capsule::DynamicsOptions dynamics_options(const ControlOptions& o) {
   d.smooth_geometry = d.smooth_traction = o.numerics.smoothing;
   d.volume_correction = o.numerics.volume_correction;
   d.symmetry = o.numerics.symmetry ? capsule::SymmetryChoice::Auto : capsule::SymmetryChoice::None;
+  d.quadrature_scale = o.numerics.quadrature_scale;
   return d;
 }
 
@@ -486,6 +487,8 @@ ParsedControl parse_control(const std::string& text, const std::string& source) 
     r.boolean("volume_correction", &o.numerics.volume_correction);
     r.boolean("symmetry", &o.numerics.symmetry);
     r.integer("threads", &o.numerics.threads, 0, 1024, "the OpenMP thread count (0: all)");
+    r.number("quadrature_scale", &o.numerics.quadrature_scale, closed(1, 4),
+             "the factor on every quadrature order");
     r.finish();
   }
   {
@@ -577,7 +580,8 @@ std::string to_json_text(const ControlOptions& o) {
   j["numerics"] = {{"smoothing", o.numerics.smoothing},
                    {"volume_correction", o.numerics.volume_correction},
                    {"symmetry", o.numerics.symmetry},
-                   {"threads", o.numerics.threads}};
+                   {"threads", o.numerics.threads},
+                   {"quadrature_scale", o.numerics.quadrature_scale}};
   {
     const render::RenderOptions& ro = o.render;
     static const char* views[] = {"oblique", "xy", "xz", "yz", "oblique"};

@@ -11,6 +11,7 @@ using json = nlohmann::json;
 namespace {
 
 const char* const kFrozen[] = {"capsule", "mesh", "start", "flow", "numerics.symmetry", "numerics.smoothing",
+                               "numerics.quadrature_scale",
                                "output.dir", "output.png", "output.mp4", "render"};
 
 bool frozen(const std::string& path) {

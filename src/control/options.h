@@ -94,6 +94,10 @@ struct NumericsOptions {
   bool volume_correction = false; // "numerics.volume_correction": paper eq. 23
   bool symmetry = true;           // "numerics.symmetry": use the flow's symmetries
   int threads = 0;                // "numerics.threads": OpenMP threads, 0 = all cores
+  // "numerics.quadrature_scale": every quadrature order of the boundary integral (far, mid, own,
+  // near) times this factor, for accuracy checks of a result against its quadrature (time per
+  // velocity evaluation grows about as its square)
+  double quadrature_scale = 1.0;
 };
 
 enum class RunState { Running, Paused, Stopped };

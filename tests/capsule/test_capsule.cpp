@@ -84,6 +84,36 @@ TEST(Capsule, RefusesUnimplementedViscosityRatio) {
   }
 }
 
+TEST(Capsule, QuadratureScaleRaisesEveryOrderAndKeepsTheVelocity) {
+  // Doubling every quadrature order is an accuracy check: the orders double (rounded) and the
+  // velocity at a smooth deformed state stays within the default rules' accuracy (~1e-8).
+  const geometry::Mesh mesh(6, 8);
+  const Capsule base(mesh, membrane::LawOptions{}, Flow::planar_extension());
+  DynamicsOptions opt;
+  opt.quadrature_scale = 2.0;
+  const Capsule fine(mesh, membrane::LawOptions{}, Flow::planar_extension(), opt);
+  const stokes::QuadratureOptions& q1 = base.quadrature();
+  const stokes::QuadratureOptions& q2 = fine.quadrature();
+  EXPECT_EQ(q2.nq_far, 2 * q1.nq_far);
+  EXPECT_EQ(q2.nq_mid, 2 * q1.nq_mid);
+  EXPECT_EQ(q2.n_edge, 2 * q1.n_edge);
+  EXPECT_EQ(q2.n_radial, 2 * q1.n_radial);
+  EXPECT_EQ(q2.n_radial_inner, 2 * q1.n_radial_inner);
+  EXPECT_EQ(q2.n_edge_near, 2 * q1.n_edge_near);
+  EXPECT_EQ(q2.n_radial_near, 2 * q1.n_radial_near);
+  EXPECT_EQ(q2.n_radial_near_out, 2 * q1.n_radial_near_out);
+  const Eigen::Matrix3Xd x = deformed(mesh, false);
+  const Eigen::Matrix3Xd u1 = base.velocity(x, 0.3), u2 = fine.velocity(x, 0.3);
+  const Eigen::Matrix3Xd ui = Flow::planar_extension().gradient * x;
+  const double du = (u1 - u2).cwiseAbs().maxCoeff(), scale = (u1 - ui).cwiseAbs().maxCoeff();
+  EXPECT_GT(scale, 0.05);
+  EXPECT_GT(du, 0.0);  // the rules did change
+  EXPECT_LT(du, 1e-6 * scale);
+  opt.quadrature_scale = 0.5;
+  EXPECT_THROW(Capsule(mesh, membrane::LawOptions{}, Flow::planar_extension(), opt),
+               std::invalid_argument);
+}
+
 TEST(Capsule, VolumeCorrectionRestoresVolume) {
   const geometry::Mesh mesh(6, 8);
   DynamicsOptions opt;

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "control/control_file.h"
+#include "control/edit.h"
 
 using namespace capflow::control;
 
@@ -97,6 +98,7 @@ TEST(ControlFile, NumericRanges) {
       {R"({"ca": 0.4, "output": {"csv_every": 0}})", "output.csv_every", "(0, 1e+06]"},
       {R"({"ca": 0.4, "output": {"frame_every": -1}})", "output.frame_every", "[0, 1e+06]"},
       {R"({"ca": -0.4})", "ca", "(0, 100]"},
+      {R"({"ca": 0.4, "numerics": {"quadrature_scale": 0.5}})", "numerics.quadrature_scale", "[1, 4]"},
   };
   for (const Case& c : cases) {
     const std::string m = issue_at(c.json, c.path);
@@ -217,6 +219,11 @@ TEST(ControlFile, NumericsMapToTheSolverOptions) {
   EXPECT_FALSE(e.smooth_traction);
   EXPECT_TRUE(e.volume_correction);
   EXPECT_EQ(e.symmetry, capflow::capsule::SymmetryChoice::None);
+  EXPECT_EQ(d.quadrature_scale, 1.0);
+  EXPECT_EQ(dynamics_options(parse_control(R"({"ca": 0.45, "numerics": {"quadrature_scale": 2}})")
+                                 .options)
+                .quadrature_scale,
+            2.0);
 }
 
 TEST(ControlFile, EffectiveFileRoundTrips) {
@@ -265,4 +272,16 @@ TEST(ControlFile, EveryShippedExampleIsValid) {
     }
   }
   EXPECT_GE(n, 6);
+}
+
+TEST(ControlEdit, QuadratureScaleCannotChangeMidRun) {
+  const ControlOptions a = parse_control(R"({"ca": 0.45})").options;
+  const ControlOptions b =
+      parse_control(R"({"ca": 0.5, "numerics": {"quadrature_scale": 2}})").options;
+  const EditResult r = apply_edit(a, b);
+  ASSERT_EQ(r.refused.size(), 1u);
+  EXPECT_EQ(r.refused[0].path, "numerics.quadrature_scale");
+  EXPECT_EQ(r.merged.numerics.quadrature_scale, 1.0);
+  ASSERT_EQ(r.applied.size(), 1u);  // the rest of the edit applies
+  EXPECT_EQ(r.applied[0].path, "ca");
 }
