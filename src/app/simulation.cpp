@@ -46,6 +46,17 @@ std::string iso_now() {
   return buf;
 }
 
+// The element division a checkpoint was written with (checkpoints before mesh.division have
+// none: the cube).
+geometry::Division checkpoint_division(const output::Checkpoint& c, const std::string& path) {
+  if (!c.has("division")) return geometry::Division::Cube;
+  const int64_t d = c.integer("division");
+  if (d != 0 && d != 1)
+    throw std::runtime_error(path + ": invalid element division " + std::to_string(d) +
+                             " in the checkpoint (0 cube, 1 box)");
+  return static_cast<geometry::Division>(d);
+}
+
 struct Measures {
   diagnostics::ShapeDiagnostics shape;
   double tau_max = 0, tau_min = 0;
@@ -142,7 +153,8 @@ struct Simulation::Impl {
   // Ca schedule for that initial state (a resume restores their saved state afterwards).
   void build_solver(const control::StartOptions* start = nullptr) {
     if (opt.numerics.threads > 0) omp_set_num_threads(opt.numerics.threads);
-    mesh = std::make_unique<geometry::Mesh>(opt.mesh.elements, opt.mesh.nb);
+    mesh = std::make_unique<geometry::Mesh>(opt.mesh.elements, opt.mesh.nb,
+                                            geometry::ElementMap::Equiangular, opt.mesh.division);
     cap = std::make_unique<capsule::Capsule>(*mesh, opt.law, opt.flow, control::dynamics_options(opt));
     if (start) start_from(*start);
     health = std::make_unique<capsule::HealthMonitor>(*mesh, cap->positions());
@@ -167,7 +179,9 @@ struct Simulation::Impl {
     std::unique_ptr<geometry::Mesh> source;
     try {
       source = std::make_unique<geometry::Mesh>(static_cast<int>(c.integer("elements")),
-                                                static_cast<int>(c.integer("nb")));
+                                                static_cast<int>(c.integer("nb")),
+                                                geometry::ElementMap::Equiangular,
+                                                checkpoint_division(c, ckpt));
     } catch (const std::invalid_argument& e) {
       throw std::runtime_error(ckpt + ": invalid mesh in the checkpoint (" + e.what() + ")");
     }
@@ -327,6 +341,7 @@ struct Simulation::Impl {
     c.put_int("steps", cap->step_count());
     c.put_int("elements", opt.mesh.elements);
     c.put_int("nb", opt.mesh.nb);
+    c.put_int("division", static_cast<int>(opt.mesh.division));
     c.put("law", membrane::to_string(opt.law.kind));
     c.put("schedule", schedule->state());
     const Eigen::Matrix3Xd& n = health->normals();
@@ -460,7 +475,8 @@ std::unique_ptr<Simulation> Simulation::resume(const std::string& run_dir, const
   s.opt.output.dir = dir.string();
   s.dir = dir;
   s.opt.run.state = control::RunState::Running;
-  if (c.integer("elements") != s.opt.mesh.elements || c.integer("nb") != s.opt.mesh.nb)
+  if (c.integer("elements") != s.opt.mesh.elements || c.integer("nb") != s.opt.mesh.nb ||
+      checkpoint_division(c, ckpt) != s.opt.mesh.division)
     throw std::runtime_error(ckpt + ": checkpoint mesh does not match its control");
   s.build_solver();
   const long n = s.mesh->num_local();

@@ -323,8 +323,8 @@ capsule::DynamicsOptions dynamics_options(const ControlOptions& o) {
   return d;
 }
 
-double min_node_spacing(int elements, int nb) {
-  const geometry::Mesh mesh(elements, nb);
+double min_node_spacing(int elements, int nb, geometry::Division division) {
+  const geometry::Mesh mesh(elements, nb, geometry::ElementMap::Equiangular, division);
   double d = std::numeric_limits<double>::infinity();
   const auto& x = mesh.reference();
   for (int e = 0; e < mesh.ne(); ++e)
@@ -382,6 +382,8 @@ ParsedControl parse_control(const std::string& text, const std::string& source) 
     Reader r = root.object("mesh");
     r.integer_of("elements", &o.mesh.elements, {6, 10, 14}, "the element division");
     r.integer("nb", &o.mesh.nb, 4, 24, "nodes per element direction");
+    const int d = r.choice("division", {"cube", "box"});
+    if (d >= 0) o.mesh.division = static_cast<geometry::Division>(d);
     r.finish();
   }
   {
@@ -505,7 +507,7 @@ ParsedControl parse_control(const std::string& text, const std::string& source) 
   double ca_min = std::numeric_limits<double>::infinity();
   for (const auto& s : o.ca.segments)
     ca_min = std::min(ca_min, s.kind == CaSegment::Kind::Hold ? s.ca : s.to);
-  const double dx = min_node_spacing(o.mesh.elements, o.mesh.nb);
+  const double dx = min_node_spacing(o.mesh.elements, o.mesh.nb, o.mesh.division);
   if (o.time.dt > ca_min * dx) {
     std::ostringstream s;
     s << "dt = " << o.time.dt << " exceeds the stability estimate Ca_min * dx_min = " << ca_min
@@ -545,7 +547,8 @@ std::string to_json_text(const ControlOptions& o) {
                   {"C", o.law.c},
                   {"psi", o.law.psi},
                   {"viscosity_ratio", o.viscosity_ratio}};
-  j["mesh"] = {{"elements", o.mesh.elements}, {"nb", o.mesh.nb}};
+  j["mesh"] = {{"elements", o.mesh.elements}, {"nb", o.mesh.nb},
+               {"division", o.mesh.division == geometry::Division::Box ? "box" : "cube"}};
   if (!o.start.from.empty())  // (an empty "from" is not valid input: omit the default)
     j["start"] = {{"from", o.start.from}, {"restore_volume", o.start.restore_volume}};
   j["flow"] = {{"type", o.flow.name()}};

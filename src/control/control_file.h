@@ -49,7 +49,8 @@ std::string to_json_text(const ControlOptions& options);
 capsule::DynamicsOptions dynamics_options(const ControlOptions& options);
 
 // Smallest node spacing of the reference mesh (for the time-step warning).
-double min_node_spacing(int elements, int nb);
+double min_node_spacing(int elements, int nb,
+                        geometry::Division division = geometry::Division::Cube);
 
 std::string to_string(RunState s);
 

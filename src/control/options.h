@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "capsule/flow.h"
+#include "geometry/mesh.h"
 #include "membrane/law.h"
 #include "render/context.h"
 #include "render/options.h"
@@ -20,6 +21,9 @@ namespace capflow::control {
 struct MeshOptions {
   int elements = 10;  // "mesh.elements": 6 | 10 | 14 (paper fig. 1)
   int nb = 12;        // "mesh.nb": Gauss-Lobatto nodes per element direction, 4..24
+  // "mesh.division": "cube" (the faces of the cube split in equal angles) | "box" (the paper's
+  // parallelepiped of unit-square faces: NE=10 on a 2:1:1 box, NE=14 on 1:3:1; geometry/mesh.h)
+  geometry::Division division = geometry::Division::Cube;
 };
 
 // "start": the initial shape (default: the unstressed reference sphere at t = 0).

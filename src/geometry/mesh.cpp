@@ -14,9 +14,12 @@ constexpr double kQuarterPi = 0.78539816339744830962;
 constexpr double kMatchTol = 1e-10;
 }  // namespace
 
-Mesh::Mesh(int ne, int nb, ElementMap map) : ne_(ne), nb_(nb), map_(map) {
+Mesh::Mesh(int ne, int nb, ElementMap map, Division division)
+    : ne_(ne), nb_(nb), map_(map), division_(division), box_(1, 1, 1) {
   if (ne != 6 && ne != 10 && ne != 14)
     throw std::invalid_argument("Mesh: elements must be 6, 10 or 14, got " + std::to_string(ne));
+  if (division == Division::Box) box_ = ne == 10 ? Vector3d(2, 1, 1) : ne == 14 ? Vector3d(1, 3, 1) : box_;
+  for (int k = 0; k < 3; ++k) axis_scale_[k] = std::min(box_[(k + 1) % 3], box_[(k + 2) % 3]);
   if (nb < 3 || nb > 64)
     throw std::invalid_argument("Mesh: nb must be in [3, 64], got " + std::to_string(nb));
   const spectral::Rule r = spectral::gauss_lobatto(nb);
@@ -44,21 +47,41 @@ void Mesh::build_patches() {
       p.sign = s;
       p.tu = (s > 0) ? (a + 1) % 3 : (a + 2) % 3;
       p.tv = (s > 0) ? (a + 2) % 3 : (a + 1) % 3;
-      p.a0 = p.b0 = -kQuarterPi;
-      p.a1 = p.b1 = kQuarterPi;
+      // Along box axis k the coordinate is u = d_k tan(beta), beta linear in the element
+      // parameter, d_k the nearest distance of a face parallel to k (axis_scale_): a map of the
+      // axis alone, so faces sharing an edge put their nodes at the same points of it, and
+      // equiangular as seen from the faces at distance d_k (on the cube: the equiangular map).
+      auto angle = [&](int k) {
+        return division_ == Division::Cube ? kQuarterPi : std::atan(box_[k] / axis_scale_[k]);
+      };
+      p.a1 = angle(p.tu);
+      p.b1 = angle(p.tv);
+      p.a0 = -p.a1;
+      p.b0 = -p.b1;
       if (split_axis < 0 || split_axis == a) {
         patches_.push_back(p);
         continue;
       }
+      // Row k covers [lo_k, hi_k] of the split axis: equal angles on the cube, equal lengths
+      // (unit squares) on the box.
       const double w = 2.0 * kQuarterPi / rows;
+      auto lo = [&](int k) {  // box: the row boundaries at the unit-square edges
+        const double h = box_[split_axis];
+        return division_ == Division::Cube
+                   ? -kQuarterPi + k * w
+                   : std::atan((-h + k * 2.0 * h / rows) / axis_scale_[split_axis]);
+      };
+      auto hi = [&](int k) {
+        return division_ == Division::Cube ? lo(k) + w : lo(k + 1);
+      };
       for (int k = 0; k < rows; ++k) {
         Patch q = p;
         if (p.tu == split_axis) {
-          q.a0 = -kQuarterPi + k * w;
-          q.a1 = q.a0 + w;
+          q.a0 = lo(k);
+          q.a1 = hi(k);
         } else {
-          q.b0 = -kQuarterPi + k * w;
-          q.b1 = q.b0 + w;
+          q.b0 = lo(k);
+          q.b1 = hi(k);
         }
         patches_.push_back(q);
       }
@@ -75,16 +98,17 @@ Vector3d Mesh::sphere_point(int e, double xi, double eta) const {
     return std::tan(lo) + (std::tan(hi) - std::tan(lo)) * 0.5 * (t + 1.0);
   };
   Vector3d c;
-  c[p.axis] = p.sign;
-  c[p.tu] = coord(p.a0, p.a1, xi);
-  c[p.tv] = coord(p.b0, p.b1, eta);
+  c[p.axis] = p.sign * box_[p.axis];
+  c[p.tu] = axis_scale_[p.tu] * coord(p.a0, p.a1, xi);
+  c[p.tv] = axis_scale_[p.tv] * coord(p.b0, p.b1, eta);
   return c.normalized();
 }
 
 Mesh::Location Mesh::locate(const Vector3d& p) const {
+  // the box face the ray through p meets first: the largest |p_k| / box_k
   int a = 0;
   for (int k = 1; k < 3; ++k)
-    if (std::abs(p[k]) > std::abs(p[a])) a = k;
+    if (std::abs(p[k]) * box_[a] > std::abs(p[a]) * box_[k]) a = k;
   if (!(std::abs(p[a]) > 0)) throw std::invalid_argument("Mesh::locate: the direction is zero or NaN");
   const int sign = p[a] > 0 ? 1 : -1;
   // Parameter of cube coordinate c on a patch covering angles [lo, hi] (inverse of the map in
@@ -97,8 +121,8 @@ Mesh::Location Mesh::locate(const Vector3d& p) const {
   for (int e = 0; e < ne_; ++e) {
     const Patch& q = patches_[e];
     if (q.axis != a || q.sign != sign) continue;
-    const double xi = param(q.a0, q.a1, p[q.tu] / std::abs(p[a]));
-    const double eta = param(q.b0, q.b1, p[q.tv] / std::abs(p[a]));
+    const double xi = param(q.a0, q.a1, p[q.tu] * box_[a] / (std::abs(p[a]) * axis_scale_[q.tu]));
+    const double eta = param(q.b0, q.b1, p[q.tv] * box_[a] / (std::abs(p[a]) * axis_scale_[q.tv]));
     if (std::abs(xi) <= 1.0 + kTol && std::abs(eta) <= 1.0 + kTol)
       return {e, std::clamp(xi, -1.0, 1.0), std::clamp(eta, -1.0, 1.0)};
   }

@@ -8,6 +8,14 @@
 //   NE = 14: the four faces parallel to y (+-x, +-z) split into three rows along y, plus the
 //            two caps +-y. The rows divide the face's angular range into equal thirds.
 // All three divisions are symmetric under the mirror planes x=0, y=0, z=0.
+// Division::Box (the paper's "parallelepiped" projection, sec. 3.1) projects instead a box whose
+// face regions are all unit squares: NE=10 the box [-2,2] x [-1,1]^2 (the faces parallel to x
+// split at x = 0; the caps +-x then span 2 atan(1/2) = 53 degrees instead of 90), NE=14 the box
+// [-1,1] x [-3,3] x [-1,1] (rows at y = +-1: the middle rows span 90 degrees, the caps +-y
+// 2 atan(1/3) = 37); NE=6 is the cube either way. Along each box axis k the coordinate is
+// d_k tan(beta) with beta linear in the element parameter, d_k the nearest distance of a face
+// parallel to k (1 on both boxes): a map of the axis alone, so neighbouring faces share their
+// edge nodes, and equiangular on the faces at distance d_k.
 //
 // Element parametrisation (xi, eta) in [-1,1]^2. On a face with normal axis a and sign s, xi
 // runs along box axis tu and eta along tv, chosen so that t_xi x t_eta points outward. With
@@ -34,6 +42,7 @@ using Eigen::Vector3d;
 using Eigen::VectorXd;
 
 enum class ElementMap { Equiangular, Radial };
+enum class Division { Cube, Box };
 
 struct Patch {
   int axis = 0;   // face normal axis (0=x, 1=y, 2=z)
@@ -47,11 +56,15 @@ struct Patch {
 class Mesh {
  public:
   // ne in {6, 10, 14}; nb in [3, 64]. Throws std::invalid_argument otherwise.
-  Mesh(int ne, int nb, ElementMap map = ElementMap::Equiangular);
+  Mesh(int ne, int nb, ElementMap map = ElementMap::Equiangular,
+       Division division = Division::Cube);
 
   int ne() const { return ne_; }
   int nb() const { return nb_; }
   ElementMap map() const { return map_; }
+  Division division() const { return division_; }
+  // Half-extents of the projected box ((1,1,1) for the cube).
+  const Vector3d& box() const { return box_; }
   int nodes_per_element() const { return nb_ * nb_; }
   int num_local() const { return ne_ * nb_ * nb_; }
   int num_unique() const { return static_cast<int>(classes_.size()); }
@@ -88,6 +101,8 @@ class Mesh {
 
   int ne_, nb_;
   ElementMap map_;
+  Division division_;
+  Vector3d box_, axis_scale_;
   VectorXd xi_, bw_;
   MatrixXd d_;
   std::vector<Patch> patches_;

@@ -162,9 +162,27 @@ TEST(StartFrom, RunGoesOnFromAnotherRunsShapeOnAnotherMesh) {
   { app::Simulation sim(oc, ""); }
   const std::string ev = test::read_file(c / "events.jsonl");
   EXPECT_NE(ev.find("\"restore_volume\":false"), std::string::npos);
+  // Onto the parallelepiped division (mesh.division box): the same shape, the division kept in
+  // the checkpoint, and the run resumes on it.
+  const fs::path d = test::fresh_dir("start_box");
+  control::ControlOptions od = ob;
+  od.output.dir = d.string();
+  od.mesh.division = geometry::Division::Box;
+  {
+    app::Simulation sim(od, "");
+    EXPECT_EQ(sim.run().steps, 5);
+  }
+  EXPECT_NEAR(csv_value(d / "timeseries.csv", 0, "D"), csv_value(a / "timeseries.csv", last_a, "D"), 2e-4);
+  EXPECT_EQ(output::Checkpoint::read(app::Simulation::latest_checkpoint(d.string())).integer("division"), 1);
+  {
+    app::ResumeOverrides ov;
+    ov.t_end = 0.07;
+    EXPECT_EQ(app::Simulation::resume(d.string(), ov)->run().steps, 7);
+  }
   fs::remove_all(a);
   fs::remove_all(b);
   fs::remove_all(c);
+  fs::remove_all(d);
 }
 
 TEST(StartFrom, MissingSourcesAreRefusedNamingTheField) {

@@ -285,3 +285,14 @@ TEST(ControlEdit, QuadratureScaleCannotChangeMidRun) {
   ASSERT_EQ(r.applied.size(), 1u);  // the rest of the edit applies
   EXPECT_EQ(r.applied[0].path, "ca");
 }
+
+TEST(ControlFile, MeshDivision) {
+  EXPECT_EQ(parse_control(kMinimal).options.mesh.division, capflow::geometry::Division::Cube);
+  const ParsedControl p = parse_control(R"({"ca": 0.4, "mesh": {"division": "box"}})");
+  EXPECT_EQ(p.options.mesh.division, capflow::geometry::Division::Box);
+  // the effective control file keeps it
+  EXPECT_EQ(parse_control(to_json_text(p.options)).options.mesh.division,
+            capflow::geometry::Division::Box);
+  const std::string m = issue_at(R"({"ca": 0.4, "mesh": {"division": "prism"}})", "mesh.division");
+  expect_contains(m, "\"cube\", \"box\"");
+}

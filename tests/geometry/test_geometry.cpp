@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <random>
 
@@ -269,4 +270,78 @@ TEST(Geometry, ResampleAcrossDivisionsConvergesSpectrally) {
   for (size_t k = 1; k < err.size(); ++k) EXPECT_LT(err[k], 0.1 * err[k - 1]);
   EXPECT_LT(err.back(), 1e-6);
   EXPECT_THROW(resample_surface(Mesh(6, 6), Matrix3Xd::Zero(3, 10), target), std::invalid_argument);
+}
+
+TEST(Geometry, BoxDivisionTilesTheSphereWithUnitSquareFaces) {
+  // The parallelepiped projection (Division::Box): same topology as the cube divisions, nodes
+  // on the unit sphere, coincidences, mirrors and locate as on the cube; the element edges lie
+  // where the box's unit-square face regions meet.
+  for (int ne : {6, 10, 14}) {
+    const Vector3d box = ne == 10 ? Vector3d(2, 1, 1) : ne == 14 ? Vector3d(1, 3, 1) : Vector3d(1, 1, 1);
+    for (int nb : {5, 8}) {
+      const Mesh mesh(ne, nb, ElementMap::Equiangular, Division::Box);
+      const Mesh cube(ne, nb);
+      EXPECT_EQ(mesh.division(), Division::Box);
+      EXPECT_EQ((mesh.box() - box).norm(), 0.0);
+      EXPECT_EQ(mesh.num_unique(), cube.num_unique()) << ne;
+      for (int m = 0; m < mesh.num_local(); ++m)
+        ASSERT_NEAR(mesh.reference().col(m).norm(), 1.0, 1e-14);
+      std::map<size_t, int> count;
+      for (const auto& c : mesh.classes()) {
+        ++count[c.size()];
+        for (size_t k = 1; k < c.size(); ++k)
+          ASSERT_LT((mesh.reference().col(c[k]) - mesh.reference().col(c[0])).norm(), 1e-12);
+        if (c.size() == 3)  // box corners
+          EXPECT_LT((mesh.reference().col(c[0]).cwiseAbs() - box.normalized()).norm(), 1e-14);
+        if (c.size() == 4 && ne == 14) {  // row boundaries at |y| = 1 on the box
+          const Vector3d p = mesh.reference().col(c[0]).cwiseAbs();
+          EXPECT_NEAR(p.y() / std::max(p.x(), p.z()), 1.0, 1e-14);
+        }
+      }
+      EXPECT_EQ(count[3], 8);
+      EXPECT_EQ(count[4], ne == 6 ? 0 : ne == 10 ? 4 : 8);
+      EXPECT_EQ(count[2], 2 * ne * (nb - 2));
+      for (int k = 0; k < 3; ++k)
+        for (int m = 0; m < mesh.num_local(); ++m) {
+          Vector3d p = mesh.reference().col(m);
+          p[k] = -p[k];
+          ASSERT_LT((mesh.reference().col(mesh.mirror(k)[m]) - p).norm(), 1e-12);
+        }
+      for (int e = 0; e < ne; ++e)
+        for (double xi : {-0.7, 0.1, 0.95})
+          for (double eta : {-0.9, 0.4}) {
+            const Mesh::Location at = mesh.locate(2.0 * mesh.sphere_point(e, xi, eta));
+            ASSERT_EQ(at.e, e);
+            EXPECT_NEAR(at.xi, xi, 1e-13);
+            EXPECT_NEAR(at.eta, eta, 1e-13);
+          }
+    }
+  }
+  // NE=10: the caps +-x span 2 atan(1/2) (53 degrees) in each direction, not 90.
+  const Mesh m10(10, 6, ElementMap::Equiangular, Division::Box);
+  for (int e = 0; e < 10; ++e) {
+    if (m10.patches()[e].axis != 0) continue;
+    const Vector3d corner = m10.sphere_point(e, 1.0, 1.0);
+    EXPECT_NEAR(std::abs(corner.y() / corner.x()), 0.5, 1e-14);
+    EXPECT_NEAR(std::abs(corner.z() / corner.x()), 0.5, 1e-14);
+  }
+  // The sphere is resolved spectrally on the box divisions too (NE=14's elongated outer rows
+  // and small caps resolve it less well than the cube's equal-angle rows).
+  for (int ne : {10, 14}) {
+    const Mesh a(ne, 14, ElementMap::Equiangular, Division::Box);
+    const QuadratureSurface q = sample_gauss(a, a.reference(), 18);
+    double vol = 0;
+    for (int k = 0; k < q.x.cols(); ++k) vol += q.x.col(k).dot(q.n.col(k)) * q.w[k] / 3;
+    EXPECT_NEAR(q.w.sum() / (4 * kPi), 1.0, 1e-9) << ne;
+    EXPECT_NEAR(vol / (4 * kPi / 3), 1.0, 1e-9) << ne;
+    double err[3];
+    for (int k = 0; k < 3; ++k) {
+      const Mesh b(ne, 8 + 4 * k, ElementMap::Equiangular, Division::Box);
+      const SurfaceGeometry g = compute_geometry(b, b.reference());
+      err[k] = (g.mean_curvature.array() - 1.0).abs().maxCoeff();
+    }
+    std::printf("box NE=%d: max |H - 1| at NB=8, 12, 16: %.2e %.2e %.2e\n", ne, err[0], err[1], err[2]);
+    EXPECT_LT(err[1], err[0] / 10) << ne;
+    EXPECT_LT(err[2], err[1] / 10) << ne;
+  }
 }
