@@ -29,6 +29,9 @@ STEADY = [
     ("skalak_ca060_nb14", "Skalak C=1, Ca=0.6", 0.595, 1.90),
     ("nh_ca018_nb14", "neo-Hookean, Ca=0.18", 0.507, 1.60),
     ("nh_ca021_nb14", "neo-Hookean, Ca=0.21", 0.552, 1.71),
+    # on the paper's parallelepiped division (mesh.division box: NE=10 caps of 53 degrees)
+    ("skalak_ca045_box", "Skalak C=1, Ca=0.45", 0.548, 1.76),
+    ("skalak_ca060_box", "Skalak C=1, Ca=0.6", 0.595, 1.90),
 ]
 STRONG = [
     ("strong_skalak_ca125", "Skalak C=1, Ca=1.25 from rest", "stable steady state (t=30 in the paper)"),
@@ -53,7 +56,16 @@ SHEAR = ["shear_nh_ca00375", "shear_nh_ca00375_ne10", "shear_nh_ca0075", "shear_
          "shear_nh_ca06", "shear_nh_ca06_ne10", "shear_nh_ca06_ne14"]
 DRIFT_NB_RUN = "skalak_ca045"
 DRIFT_NB = [10, 12, 14]
-CONVERGENCE_NB = [8, 9, 10, 11, 12, 13, 14, 15]
+# Paper fig. 4: name, NB values, the paper's reference NB (15; the table also gives the
+# difference to the finest run), what the paper says of the case
+CONVERGENCE = [
+    ("convergence_skalak_ca15", list(range(8, 18)), 15,
+     "D ~ 0.49, length +71 %, width -41 %; 2e-6 at NB=14"),
+    ("convergence_skalak_ca15_box", list(range(8, 16)), 15,
+     "D ~ 0.49, length +71 %, width -41 %; 2e-6 at NB=14"),
+    ("convergence_skalak_ca035", list(range(6, 16)), 15,
+     "D ~ 0.14, length +15 %, width -13 %; exponential convergence, faster than at Ca=1.5"),
+]
 
 
 def control(name):
@@ -145,7 +157,9 @@ def series(rdir):
 def resolution(cfg, rdir=None):
     """Mesh and dt; for a run started from another run's shape ("start.from"), which run and
     at what time (its wall time is that of the continuation only)."""
-    r = "NE=%d NB=%d dt=%g" % (cfg["mesh"]["elements"], cfg["mesh"]["nb"], cfg["time"]["dt"])
+    r = "NE=%d%s NB=%d dt=%g" % (cfg["mesh"]["elements"],
+                                 " box" if cfg["mesh"].get("division") == "box" else "",
+                                 cfg["mesh"]["nb"], cfg["time"]["dt"])
     src = cfg.get("start", {}).get("from")
     if src:
         t0 = None
@@ -255,14 +269,13 @@ def shear_table(exe, reuse, only):
     print()
 
 
-def convergence_table(exe, reuse, only):
-    name = "convergence_skalak_ca15"
+def convergence_table(exe, reuse, only, name, nbs, ref_nb, paper):
     if (only and name not in only) or not os.path.exists(control(name)):
         return
     _, cfg = run_dir(name)
     t_at = cfg["time"]["t_end"]
     rows = []
-    for nb in CONVERGENCE_NB:
+    for nb in nbs:
         rdir, _ = ensure_run(exe, name, reuse, nb=nb)
         e = end_line(rdir)
         last = series(rdir)[-1] if e is not None else None
@@ -270,24 +283,35 @@ def convergence_table(exe, reuse, only):
             rows.append((nb, None, None, None))
             continue
         rows.append((nb, last["D"], e, last))  # the CSV row has 10 digits, run.log 5
-    ref = rows[-1][1]
+    ref = dict((nb, d) for nb, d, _, _ in rows).get(ref_nb)
+    fine_nb, fine = rows[-1][0], rows[-1][1]
     if ref is None:
-        print("Spectral convergence: the NB=%d reference run did not finish." % CONVERGENCE_NB[-1])
+        print("Spectral convergence (%s): the NB=%d reference run did not finish." % (name, ref_nb))
         print()
         return
-    print("Spectral convergence (paper fig. 4): Skalak C=1, Ca=1.5, NE=%d, dt=%g, D at t=%g against" % (
-        cfg["mesh"]["elements"], cfg["time"]["dt"], t_at))
-    print("NB=%d (paper: D ~ 0.49, length +71 %%, width -41 %%; 2e-6 at NB=14):" % CONVERGENCE_NB[-1])
+    print("Spectral convergence (paper fig. 4): Skalak C=%g, Ca=%g, NE=%d%s, dt=%g, D at t=%g against" % (
+        cfg["capsule"].get("C", 1), cfg["ca"], cfg["mesh"]["elements"],
+        " (box division)" if cfg["mesh"].get("division") == "box" else "", cfg["time"]["dt"], t_at))
+    two = fine is not None and fine_nb != ref_nb
+    print("NB=%d as the paper (%s)%s:" % (ref_nb, paper, ", and against NB=%d" % fine_nb if two else ""))
     print()
-    print("| NB | D | L | S | relative difference to NB=%d | volume drift | wall |" % CONVERGENCE_NB[-1])
-    print("|---|---|---|---|---|---|---|")
+
+    def rel(d, r):
+        # timeseries.csv keeps 10 significant digits: a smaller difference prints as such
+        x = abs(d - r) / abs(r)
+        return "< 1e-9" if x < 1e-9 else "%.1e" % x
+
+    print("| NB | D | L | S | relative difference to NB=%d |%s volume drift | wall |" % (
+        ref_nb, " to NB=%d |" % fine_nb if two else ""))
+    print("|---|---|---|---|---|%s---|---|" % ("---|" if two else ""))
     for nb, d, e, last in rows:
         if d is None:
-            print("| %d | did not finish | | | | | |" % nb)
+            print("| %d | did not finish | | | |%s | |" % (nb, " |" if two else ""))
             continue
-        diff = "-" if nb == CONVERGENCE_NB[-1] else "%.1e" % (abs(d - ref) / abs(ref))
-        print("| %d | %.8f | %.6f | %.6f | %s | %.1e | %s |" % (
-            nb, d, last["L"], last["S"], diff, last["volume_drift"], fmt_wall(e["wall"])))
+        diff = "-" if nb == ref_nb else rel(d, ref)
+        dfine = (" %s |" % ("-" if nb == fine_nb else rel(d, fine))) if two else ""
+        print("| %d | %.10f | %.6f | %.6f | %s |%s %.1e | %s |" % (
+            nb, d, last["L"], last["S"], diff, dfine, last["volume_drift"], fmt_wall(e["wall"])))
     print()
 
 
@@ -377,7 +401,8 @@ def main():
     fig2_table(args.exe, reuse, only)
     steady_table(args.exe, reuse, only)
     drift_table(args.exe, reuse, only)
-    convergence_table(args.exe, reuse, only)
+    for conv in CONVERGENCE:
+        convergence_table(args.exe, reuse, only, *conv)
     strong_table(args.exe, reuse, only)
     shear_table(args.exe, reuse, only)
 
