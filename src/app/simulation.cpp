@@ -527,7 +527,8 @@ RunSummary Simulation::run(const std::atomic<bool>* stop) {
     const control::ControlOptions& o = s.opt;
     std::ostringstream m;
     m << "capflow run: " << membrane::to_string(o.law.kind) << ", " << o.flow.name() << ", NE="
-      << o.mesh.elements << " NB=" << o.mesh.nb << ", dt=" << o.time.dt << ", t_end=" << o.time.t_end
+      << o.mesh.elements << (o.mesh.division == geometry::Division::Box ? " (box division)" : "")
+      << " NB=" << o.mesh.nb << ", dt=" << o.time.dt << ", t_end=" << o.time.t_end
       << ", " << omp_get_max_threads() << " threads, symmetry targets "
       << s.cap->symmetry().targets().size() << "/" << s.mesh->num_unique();
     if (o.numerics.quadrature_scale != 1.0)
