@@ -33,8 +33,7 @@ inline CheckpointState load_checkpoint_state(const std::string& arg) {
   }
   s.ck = output::Checkpoint::read(s.path);
   s.opt = control::parse_control(s.ck.text("control"), s.path + " (stored control)").options;
-  s.mesh = std::make_unique<geometry::Mesh>(s.opt.mesh.elements, s.opt.mesh.nb,
-                                            geometry::ElementMap::Equiangular, s.opt.mesh.division);
+  s.mesh = control::make_mesh(s.opt.mesh);
   const long n = s.mesh->num_local();
   const auto& xv = s.ck.doubles("x", 3 * n);
   s.x = Eigen::Map<const Eigen::Matrix3Xd>(xv.data(), 3, n);

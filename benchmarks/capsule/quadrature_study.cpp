@@ -85,7 +85,7 @@ int run(int argc, char** argv) {
   const Eigen::Matrix3Xd f = cap.traction(x);
   std::vector<int> targets(n);
   for (int m = 0; m < n; ++m) targets[m] = m;
-  const stokes::QuadratureOptions def = stokes::BoundaryOperators(mesh).options();
+  const stokes::QuadratureOptions def = stokes::resolve_defaults(mesh, {});
   Eigen::Matrix3Xd ref;
   stokes::BoundaryOperators(mesh, stokes::scale_orders(def, {3, 3, 3})).single_layer(x, f, targets, ref);
   const double scale = ref.colwise().norm().maxCoeff();

@@ -51,8 +51,7 @@ int run(const std::string& arg, const Variant& var) {
   const double ca = schedule.ca(t);
 
   capsule::DynamicsOptions dyn = control::dynamics_options(opt);
-  const stokes::QuadratureOptions run_quadrature =
-      capsule::Capsule(mesh, opt.law, opt.flow, dyn).quadrature();  // incl. quadrature_scale
+  const stokes::QuadratureOptions run_quadrature = capsule::quadrature_rules(mesh, dyn);
   dyn.quadrature_scale = 1.0;
   dyn.smooth_traction = var.smooth_traction;
   dyn.quadrature = stokes::scale_orders(run_quadrature, var.quad);

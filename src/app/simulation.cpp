@@ -153,8 +153,7 @@ struct Simulation::Impl {
   // Ca schedule for that initial state (a resume restores their saved state afterwards).
   void build_solver(const control::StartOptions* start = nullptr) {
     if (opt.numerics.threads > 0) omp_set_num_threads(opt.numerics.threads);
-    mesh = std::make_unique<geometry::Mesh>(opt.mesh.elements, opt.mesh.nb,
-                                            geometry::ElementMap::Equiangular, opt.mesh.division);
+    mesh = control::make_mesh(opt.mesh);
     cap = std::make_unique<capsule::Capsule>(*mesh, opt.law, opt.flow, control::dynamics_options(opt));
     if (start) start_from(*start);
     health = std::make_unique<capsule::HealthMonitor>(*mesh, cap->positions());
@@ -178,10 +177,8 @@ struct Simulation::Impl {
     const output::Checkpoint c = output::Checkpoint::read(ckpt);  // names the file on error
     std::unique_ptr<geometry::Mesh> source;
     try {
-      source = std::make_unique<geometry::Mesh>(static_cast<int>(c.integer("elements")),
-                                                static_cast<int>(c.integer("nb")),
-                                                geometry::ElementMap::Equiangular,
-                                                checkpoint_division(c, ckpt));
+      source = control::make_mesh({static_cast<int>(c.integer("elements")),
+                                   static_cast<int>(c.integer("nb")), checkpoint_division(c, ckpt)});
     } catch (const std::invalid_argument& e) {
       throw std::runtime_error(ckpt + ": invalid mesh in the checkpoint (" + e.what() + ")");
     }

@@ -46,6 +46,15 @@ Eigen::Matrix3Xd rescale_to_volume(const geometry::Mesh& mesh, const Eigen::Matr
   return ((x.colwise() - c) * s).colwise() + c;
 }
 
+stokes::QuadratureOptions quadrature_rules(const geometry::Mesh& mesh, const DynamicsOptions& o) {
+  if (!(o.quadrature_scale >= 1.0 && o.quadrature_scale <= 4.0))
+    throw std::invalid_argument("quadrature_scale = " + std::to_string(o.quadrature_scale) +
+                                " is out of range: it must be in [1, 4]");
+  const stokes::QuadratureOptions q = stokes::resolve_defaults(mesh, o.quadrature);
+  const double k = o.quadrature_scale;
+  return k == 1.0 ? q : stokes::scale_orders(q, {k, k, k});
+}
+
 Capsule::Capsule(const geometry::Mesh& mesh, const membrane::LawOptions& law, const Flow& flow,
                  const DynamicsOptions& options)
     : mesh_(mesh), flow_(flow), opt_(options) {
@@ -61,15 +70,7 @@ Capsule::Capsule(const geometry::Mesh& mesh, const membrane::LawOptions& law, co
     tangents(mesh.reference(), &t1, &t2);
     membrane_ = std::make_unique<membrane::Membrane>(mesh, t1, t2, membrane::make_law(law));
   }
-  if (!(opt_.quadrature_scale >= 1.0 && opt_.quadrature_scale <= 4.0))
-    throw std::invalid_argument("quadrature_scale = " + std::to_string(opt_.quadrature_scale) +
-                                " is out of range: it must be in [1, 4]");
-  ops_ = std::make_unique<stokes::BoundaryOperators>(mesh, opt_.quadrature);
-  if (opt_.quadrature_scale != 1.0) {
-    const double k = opt_.quadrature_scale;
-    opt_.quadrature = stokes::scale_orders(ops_->options(), {k, k, k});
-    ops_ = std::make_unique<stokes::BoundaryOperators>(mesh, opt_.quadrature);
-  }
+  ops_ = std::make_unique<stokes::BoundaryOperators>(mesh, quadrature_rules(mesh, opt_));
   symmetry_ = std::make_unique<SymmetryMap>(mesh, symmetry_for(flow_, opt_.symmetry));
   no_symmetry_ = std::make_unique<SymmetryMap>(mesh, SymmetryKind::None);
   x_ = mesh.reference();

@@ -57,6 +57,10 @@ struct DynamicsOptions {
   double quadrature_scale = 1.0;
 };
 
+// The rules a Capsule with these options uses: options.quadrature with its defaults resolved for
+// the mesh, times options.quadrature_scale (std::invalid_argument outside [1, 4]).
+stokes::QuadratureOptions quadrature_rules(const geometry::Mesh& mesh, const DynamicsOptions& options);
+
 class Capsule {
  public:
   // The mesh must outlive the Capsule. Starts from the reference sphere at t = 0 (smoothed once

@@ -323,8 +323,15 @@ capsule::DynamicsOptions dynamics_options(const ControlOptions& o) {
   return d;
 }
 
-double min_node_spacing(int elements, int nb, geometry::Division division) {
-  const geometry::Mesh mesh(elements, nb, geometry::ElementMap::Equiangular, division);
+std::unique_ptr<geometry::Mesh> make_mesh(const MeshOptions& m) {
+  return std::make_unique<geometry::Mesh>(m.elements, m.nb, geometry::ElementMap::Equiangular,
+                                          m.division);
+}
+
+double min_node_spacing(const MeshOptions& options) {
+  const int nb = options.nb;
+  const std::unique_ptr<geometry::Mesh> owned = make_mesh(options);
+  const geometry::Mesh& mesh = *owned;
   double d = std::numeric_limits<double>::infinity();
   const auto& x = mesh.reference();
   for (int e = 0; e < mesh.ne(); ++e)
@@ -507,7 +514,7 @@ ParsedControl parse_control(const std::string& text, const std::string& source) 
   double ca_min = std::numeric_limits<double>::infinity();
   for (const auto& s : o.ca.segments)
     ca_min = std::min(ca_min, s.kind == CaSegment::Kind::Hold ? s.ca : s.to);
-  const double dx = min_node_spacing(o.mesh.elements, o.mesh.nb, o.mesh.division);
+  const double dx = min_node_spacing(o.mesh);
   if (o.time.dt > ca_min * dx) {
     std::ostringstream s;
     s << "dt = " << o.time.dt << " exceeds the stability estimate Ca_min * dx_min = " << ca_min

@@ -7,6 +7,7 @@
 // above the stability estimate dt < Ca_min dx_min, paper eq. 16).
 #pragma once
 
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -48,9 +49,11 @@ std::string to_json_text(const ControlOptions& options);
 // The solver options a control file asks for (capsule::Capsule's constructor argument).
 capsule::DynamicsOptions dynamics_options(const ControlOptions& options);
 
+// The spectral-element mesh the "mesh" options describe.
+std::unique_ptr<geometry::Mesh> make_mesh(const MeshOptions& mesh);
+
 // Smallest node spacing of the reference mesh (for the time-step warning).
-double min_node_spacing(int elements, int nb,
-                        geometry::Division division = geometry::Division::Cube);
+double min_node_spacing(const MeshOptions& mesh);
 
 std::string to_string(RunState s);
 

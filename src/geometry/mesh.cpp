@@ -51,11 +51,8 @@ void Mesh::build_patches() {
       // parameter, d_k the nearest distance of a face parallel to k (axis_scale_): a map of the
       // axis alone, so faces sharing an edge put their nodes at the same points of it, and
       // equiangular as seen from the faces at distance d_k (on the cube: the equiangular map).
-      auto angle = [&](int k) {
-        return division_ == Division::Cube ? kQuarterPi : std::atan(box_[k] / axis_scale_[k]);
-      };
-      p.a1 = angle(p.tu);
-      p.b1 = angle(p.tv);
+      p.a1 = std::atan(box_[p.tu] / axis_scale_[p.tu]);  // pi/4 on the cube
+      p.b1 = std::atan(box_[p.tv] / axis_scale_[p.tv]);
       p.a0 = -p.a1;
       p.b0 = -p.b1;
       if (split_axis < 0 || split_axis == a) {
@@ -71,17 +68,14 @@ void Mesh::build_patches() {
                    ? -kQuarterPi + k * w
                    : std::atan((-h + k * 2.0 * h / rows) / axis_scale_[split_axis]);
       };
-      auto hi = [&](int k) {
-        return division_ == Division::Cube ? lo(k) + w : lo(k + 1);
-      };
       for (int k = 0; k < rows; ++k) {
         Patch q = p;
         if (p.tu == split_axis) {
           q.a0 = lo(k);
-          q.a1 = hi(k);
+          q.a1 = lo(k + 1);
         } else {
           q.b0 = lo(k);
-          q.b1 = hi(k);
+          q.b1 = lo(k + 1);
         }
         patches_.push_back(q);
       }

@@ -642,20 +642,18 @@ void line_sum_jf(int nb, const LineRule& R, double sign, const Vector3d& x0, Scr
 
 }  // namespace
 
-BoundaryOperators::BoundaryOperators(const geometry::Mesh& mesh, QuadratureOptions options)
-    : mesh_(mesh), opt_(options), prod_w_(spectral::product_weights(mesh.nodes())) {
+QuadratureOptions resolve_defaults(const geometry::Mesh& mesh, QuadratureOptions opt) {
   const int nb = mesh.nb();
-  if (nb > kMaxNb) throw std::invalid_argument("BoundaryOperators: nb too large");
   // Far order: a capsule's traction carries its full degree nb-1 (it comes from second
   // derivatives of the geometry), so f J is of degree ~3(nb-1) on an element; Gauss with
   // (3nb+19)/2 points integrates that exactly with ~10 points to spare for the kernel. nb + 3
   // (enough for the smooth densities of the sphere identities) left a quarter of the fig. 2b
   // steady-state volume leak and two thirds of the NH Ca=0.4 one at t=17.4
   // (benchmarks/capsule/volume_flux --far-scale; docs/validation.md, Milestone 3).
-  if (opt_.nq_far <= 0) opt_.nq_far = (3 * nb + 19) / 2;
+  if (opt.nq_far <= 0) opt.nq_far = (3 * nb + 19) / 2;
   // Mid order: 2 nb + 4 left 1e-4 (relative) in SL[f] at the strongly deformed NH Ca=0.4 state
   // (NE=14 NB=10, t=17.4; benchmarks/capsule/quadrature_study), 3 nb + 2 leaves 3e-5.
-  if (opt_.nq_mid <= 0) opt_.nq_mid = 3 * nb + 2;
+  if (opt.nq_mid <= 0) opt.nq_mid = 3 * nb + 2;
   // Elongated elements (NE=14 rows: 30 x 90 degrees) stretch the sinh-mapped edge coordinate
   // over a longer physical length; with the square-element orders their next-to-edge nodes miss
   // INT T.n = -4 pi I by 8e-8 at NB=12, with these 2.4e-9 (tests/stokes, StokesSphere).
@@ -665,19 +663,27 @@ BoundaryOperators::BoundaryOperators(const geometry::Mesh& mesh, QuadratureOptio
     aspect = std::max(aspect, std::max(da, db) / std::min(da, db));
   }
   const bool elongated = aspect > 2.05;
-  if (opt_.n_edge <= 0) opt_.n_edge = elongated ? 3 * nb : 2 * nb;
-  if (opt_.n_radial_inner < 0) opt_.n_radial_inner = nb + 2;
-  if (opt_.n_radial <= 0) opt_.n_radial = opt_.n_radial_inner > 0 ? nb : nb + 4;
-  if (opt_.n_edge_near <= 0) opt_.n_edge_near = elongated ? 2 * nb : nb + 6;
-  if (opt_.n_radial_near <= 0) opt_.n_radial_near = nb;
-  if (opt_.n_radial_near_out <= 0) opt_.n_radial_near_out = std::max(4, nb - 2);
-  if (opt_.near_out_panels < 1 || opt_.near_out_panels > 8)
+  if (opt.n_edge <= 0) opt.n_edge = elongated ? 3 * nb : 2 * nb;
+  if (opt.n_radial_inner < 0) opt.n_radial_inner = nb + 2;
+  if (opt.n_radial <= 0) opt.n_radial = opt.n_radial_inner > 0 ? nb : nb + 4;
+  if (opt.n_edge_near <= 0) opt.n_edge_near = elongated ? 2 * nb : nb + 6;
+  if (opt.n_radial_near <= 0) opt.n_radial_near = nb;
+  if (opt.n_radial_near_out <= 0) opt.n_radial_near_out = std::max(4, nb - 2);
+  if (opt.near_out_panels < 1 || opt.near_out_panels > 8)
     throw std::invalid_argument("BoundaryOperators: near_out_panels must be in 1..8");
-  if (opt_.n_radial_inner > 0 && !(opt_.own_split > 0.0 && opt_.own_split < 1.0 &&
-                                   opt_.own_grading > 0.0))
+  if (opt.n_radial_inner > 0 && !(opt.own_split > 0.0 && opt.own_split < 1.0 &&
+                                   opt.own_grading > 0.0))
     throw std::invalid_argument("BoundaryOperators: own_split must be in (0, 1), own_grading > 0");
-  if (opt_.n_edge > kMaxEdge || opt_.n_edge_near > kMaxEdge)
+  if (opt.n_edge > kMaxEdge || opt.n_edge_near > kMaxEdge)
     throw std::invalid_argument("BoundaryOperators: n_edge / n_edge_near > 256");
+  return opt;
+}
+
+BoundaryOperators::BoundaryOperators(const geometry::Mesh& mesh, QuadratureOptions options)
+    : mesh_(mesh), opt_(resolve_defaults(mesh, options)),
+      prod_w_(spectral::product_weights(mesh.nodes())) {
+  const int nb = mesh.nb();
+  if (nb > kMaxNb) throw std::invalid_argument("BoundaryOperators: nb too large");
   const VectorXd& xi = mesh.nodes();
   canon_rule_.assign(nb * nb, -1);
   canon_sym_.assign(nb * nb, 0);

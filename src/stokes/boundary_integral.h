@@ -96,10 +96,14 @@ struct QuadratureOptions {
   bool interpolate_jf = false;  // single layer: interpolate J f (faster, less accurate)
 };
 
+// The options with every order left at 0 (or -1) replaced by its default for the mesh, and
+// validated (std::invalid_argument): what BoundaryOperators(mesh, options).options() holds.
+QuadratureOptions resolve_defaults(const geometry::Mesh& mesh, QuadratureOptions options);
+
 // Factors on the quadrature orders of resolved options (BoundaryOperators::options()): far
 // Gauss order, own-element orders, near-element orders, mid Gauss order (<= 0: as far); each
 // order rounded, at least 2. A reference for accuracy studies is scale_orders(ops.options(),
-// {3, 3, 3}).
+// {3, 3, 3}) or scale_orders(resolve_defaults(mesh, {}), {3, 3, 3}).
 struct OrderScales {
   double far = 1.0, own = 1.0, near = 1.0, mid = 0.0;
 };

@@ -95,7 +95,7 @@ Fluxes velocity_fluxes(int ne, int nb, const Eigen::Matrix3Xd& x, double ca) {
   // direct evaluation with every order tripled: the default near rule at on-surface points is
   // cruder than the own-element rules of the nodes
   const stokes::BoundaryOperators ops(
-      mesh, stokes::scale_orders(stokes::BoundaryOperators(mesh).options(), {3, 3, 3}));
+      mesh, stokes::scale_orders(stokes::resolve_defaults(mesh, {}), {3, 3, 3}));
   const Eigen::Matrix3Xd u = cap.velocity(x, ca), f = cap.traction(x);
   const geometry::QuadratureSurface q = geometry::sample_gauss(mesh, x, nb + 4);
   const Eigen::Matrix3Xd uq = Eigen::Matrix3Xd(cap.flow().gradient * q.x) -
