@@ -51,9 +51,9 @@ std::string iso_now() {
 geometry::Division checkpoint_division(const output::Checkpoint& c, const std::string& path) {
   if (!c.has("division")) return geometry::Division::Cube;
   const int64_t d = c.integer("division");
-  if (d != 0 && d != 1)
+  if (d < 0 || d > 2)
     throw std::runtime_error(path + ": invalid element division " + std::to_string(d) +
-                             " in the checkpoint (0 cube, 1 box)");
+                             " in the checkpoint (0 cube, 1 box, 2 diagonal)");
   return static_cast<geometry::Division>(d);
 }
 
@@ -524,7 +524,10 @@ RunSummary Simulation::run(const std::atomic<bool>* stop) {
     const control::ControlOptions& o = s.opt;
     std::ostringstream m;
     m << "capflow run: " << membrane::to_string(o.law.kind) << ", " << o.flow.name() << ", NE="
-      << o.mesh.elements << (o.mesh.division == geometry::Division::Box ? " (box division)" : "")
+      << o.mesh.elements << (o.mesh.division == geometry::Division::Cube
+                                  ? ""
+                                  : std::string(" (") + control::division_name(o.mesh.division) +
+                                        " division)")
       << " NB=" << o.mesh.nb << ", dt=" << o.time.dt << ", t_end=" << o.time.t_end
       << ", " << omp_get_max_threads() << " threads, symmetry targets "
       << s.cap->symmetry().targets().size() << "/" << s.mesh->num_unique();

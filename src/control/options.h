@@ -22,9 +22,16 @@ struct MeshOptions {
   int elements = 10;  // "mesh.elements": 6 | 10 | 14 (paper fig. 1)
   int nb = 12;        // "mesh.nb": Gauss-Lobatto nodes per element direction, 4..24
   // "mesh.division": "cube" (the faces of the cube split in equal angles) | "box" (the paper's
-  // parallelepiped of unit-square faces: NE=10 on a 2:1:1 box, NE=14 on 1:3:1; geometry/mesh.h)
+  // parallelepiped of unit-square faces: NE=10 on a 2:1:1 box, NE=14 on 1:3:1) | "diagonal"
+  // (NE=6 only: the cube turned 45 degrees about z, the +-x and +-y tips on element edges;
+  // geometry/mesh.h)
   geometry::Division division = geometry::Division::Cube;
 };
+
+// The control-file name of a division ("cube", "box", "diagonal").
+inline const char* division_name(geometry::Division d) {
+  return d == geometry::Division::Box ? "box" : d == geometry::Division::Diagonal ? "diagonal" : "cube";
+}
 
 // "start": the initial shape (default: the unstressed reference sphere at t = 0).
 struct StartOptions {

@@ -18,6 +18,9 @@ Mesh::Mesh(int ne, int nb, ElementMap map, Division division)
     : ne_(ne), nb_(nb), map_(map), division_(division), box_(1, 1, 1) {
   if (ne != 6 && ne != 10 && ne != 14)
     throw std::invalid_argument("Mesh: elements must be 6, 10 or 14, got " + std::to_string(ne));
+  if (division == Division::Diagonal && ne != 6)
+    throw std::invalid_argument("Mesh: the diagonal division needs 6 elements, got " +
+                                std::to_string(ne));
   if (division == Division::Box) box_ = ne == 10 ? Vector3d(2, 1, 1) : ne == 14 ? Vector3d(1, 3, 1) : box_;
   for (int k = 0; k < 3; ++k) axis_scale_[k] = std::min(box_[(k + 1) % 3], box_[(k + 2) % 3]);
   if (nb < 3 || nb > 64)
@@ -95,10 +98,19 @@ Vector3d Mesh::sphere_point(int e, double xi, double eta) const {
   c[p.axis] = p.sign * box_[p.axis];
   c[p.tu] = axis_scale_[p.tu] * coord(p.a0, p.a1, xi);
   c[p.tv] = axis_scale_[p.tv] * coord(p.b0, p.b1, eta);
-  return c.normalized();
+  return turn(c.normalized(), 1);
 }
 
-Mesh::Location Mesh::locate(const Vector3d& p) const {
+Vector3d Mesh::turn(const Vector3d& p, int sense) const {
+  if (division_ != Division::Diagonal) return p;
+  // rotation by sense * 45 degrees about z
+  constexpr double kHalfSqrt2 = 0.70710678118654752440;
+  const double s = sense * kHalfSqrt2;
+  return {kHalfSqrt2 * p.x() - s * p.y(), s * p.x() + kHalfSqrt2 * p.y(), p.z()};
+}
+
+Mesh::Location Mesh::locate(const Vector3d& direction) const {
+  const Vector3d p = turn(direction, -1);
   // the box face the ray through p meets first: the largest |p_k| / box_k
   int a = 0;
   for (int k = 1; k < 3; ++k)

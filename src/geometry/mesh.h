@@ -16,6 +16,12 @@
 // d_k tan(beta) with beta linear in the element parameter, d_k the nearest distance of a face
 // parallel to k (1 on both boxes): a map of the axis alone, so neighbouring faces share their
 // edge nodes, and equiangular on the faces at distance d_k.
+// Division::Diagonal (NE=6 only) is the cube turned by 45 degrees about z: its faces have the
+// normals (+-1, +-1, 0)/sqrt(2) and (0, 0, +-1), so the +-x and +-y axes pierce the middles of
+// element edges instead of face centres. In planar extension the tips (+-x) then lie on an
+// edge, where the Gauss-Lobatto nodes of the two elements cluster, instead of in the middle of
+// a 90-degree cap where they are sparsest. It keeps the mirror planes x=0, y=0, z=0. The
+// patches below describe the unturned cube; sphere_point and locate apply the turn.
 //
 // Element parametrisation (xi, eta) in [-1,1]^2. On a face with normal axis a and sign s, xi
 // runs along box axis tu and eta along tv, chosen so that t_xi x t_eta points outward. With
@@ -42,7 +48,7 @@ using Eigen::Vector3d;
 using Eigen::VectorXd;
 
 enum class ElementMap { Equiangular, Radial };
-enum class Division { Cube, Box };
+enum class Division { Cube, Box, Diagonal };
 
 struct Patch {
   int axis = 0;   // face normal axis (0=x, 1=y, 2=z)
@@ -55,7 +61,8 @@ struct Patch {
 
 class Mesh {
  public:
-  // ne in {6, 10, 14}; nb in [3, 64]. Throws std::invalid_argument otherwise.
+  // ne in {6, 10, 14}; nb in [3, 64]; Division::Diagonal needs ne = 6. Throws
+  // std::invalid_argument otherwise.
   Mesh(int ne, int nb, ElementMap map = ElementMap::Equiangular,
        Division division = Division::Cube);
 
@@ -98,6 +105,9 @@ class Mesh {
   void build_patches();
   void build_coincidence();
   void build_mirrors();
+  // The turn of the diagonal division (identity otherwise): sense +1 from the cube frame to
+  // the sphere, -1 back.
+  Vector3d turn(const Vector3d& p, int sense) const;
 
   int ne_, nb_;
   ElementMap map_;

@@ -179,10 +179,27 @@ TEST(StartFrom, RunGoesOnFromAnotherRunsShapeOnAnotherMesh) {
     ov.t_end = 0.07;
     EXPECT_EQ(app::Simulation::resume(d.string(), ov)->run().steps, 7);
   }
+  // Onto the turned cube (mesh.division diagonal, NE=6): the same shape, its division kept.
+  const fs::path g = test::fresh_dir("start_diagonal");
+  control::ControlOptions og = ob;
+  og.output.dir = g.string();
+  og.mesh = {6, 8, geometry::Division::Diagonal};
+  {
+    app::Simulation sim(og, "");
+    EXPECT_EQ(sim.run().steps, 5);
+  }
+  EXPECT_NEAR(csv_value(g / "timeseries.csv", 0, "D"), csv_value(a / "timeseries.csv", last_a, "D"), 2e-4);
+  EXPECT_EQ(output::Checkpoint::read(app::Simulation::latest_checkpoint(g.string())).integer("division"), 2);
+  {
+    app::ResumeOverrides ov;
+    ov.t_end = 0.07;
+    EXPECT_EQ(app::Simulation::resume(g.string(), ov)->run().steps, 7);
+  }
   fs::remove_all(a);
   fs::remove_all(b);
   fs::remove_all(c);
   fs::remove_all(d);
+  fs::remove_all(g);
 }
 
 TEST(StartFrom, MissingSourcesAreRefusedNamingTheField) {

@@ -294,5 +294,14 @@ TEST(ControlFile, MeshDivision) {
   EXPECT_EQ(parse_control(to_json_text(p.options)).options.mesh.division,
             capflow::geometry::Division::Box);
   const std::string m = issue_at(R"({"ca": 0.4, "mesh": {"division": "prism"}})", "mesh.division");
-  expect_contains(m, "\"cube\", \"box\"");
+  expect_contains(m, "\"cube\", \"box\", \"diagonal\"");
+  const ParsedControl d =
+      parse_control(R"({"ca": 0.4, "mesh": {"elements": 6, "division": "diagonal"}})");
+  EXPECT_EQ(d.options.mesh.division, capflow::geometry::Division::Diagonal);
+  EXPECT_EQ(parse_control(to_json_text(d.options)).options.mesh.division,
+            capflow::geometry::Division::Diagonal);
+  // the turned cube exists for NE=6 only
+  expect_contains(issue_at(R"({"ca": 0.4, "mesh": {"elements": 10, "division": "diagonal"}})",
+                           "mesh.division"),
+                  "needs 6 elements");
 }

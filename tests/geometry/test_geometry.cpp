@@ -291,8 +291,9 @@ TEST(Geometry, BoxDivisionTilesTheSphereWithUnitSquareFaces) {
         ++count[c.size()];
         for (size_t k = 1; k < c.size(); ++k)
           ASSERT_LT((mesh.reference().col(c[k]) - mesh.reference().col(c[0])).norm(), 1e-12);
-        if (c.size() == 3)  // box corners
+        if (c.size() == 3) {  // box corners
           EXPECT_LT((mesh.reference().col(c[0]).cwiseAbs() - box.normalized()).norm(), 1e-14);
+        }
         if (c.size() == 4 && ne == 14) {  // row boundaries at |y| = 1 on the box
           const Vector3d p = mesh.reference().col(c[0]).cwiseAbs();
           EXPECT_NEAR(p.y() / std::max(p.x(), p.z()), 1.0, 1e-14);
@@ -344,4 +345,69 @@ TEST(Geometry, BoxDivisionTilesTheSphereWithUnitSquareFaces) {
     EXPECT_LT(err[1], err[0] / 10) << ne;
     EXPECT_LT(err[2], err[1] / 10) << ne;
   }
+}
+
+TEST(Geometry, DiagonalDivisionIsTheCubeTurnedAboutZ) {
+  // Division::Diagonal: every node is the cube's node turned by 45 degrees about z; the +-x and
+  // +-y axes pierce element edges (midpoints of the edges shared by two side faces), the +-z
+  // axes face centres; coincidences, mirrors and locate hold as on the cube; only NE=6.
+  EXPECT_THROW(Mesh(10, 8, ElementMap::Equiangular, Division::Diagonal), std::invalid_argument);
+  EXPECT_THROW(Mesh(14, 8, ElementMap::Equiangular, Division::Diagonal), std::invalid_argument);
+  const double c = std::sqrt(0.5);
+  for (int nb : {5, 8, 9}) {
+    const Mesh mesh(6, nb, ElementMap::Equiangular, Division::Diagonal);
+    const Mesh cube(6, nb);
+    EXPECT_EQ(mesh.division(), Division::Diagonal);
+    EXPECT_EQ(mesh.num_unique(), cube.num_unique());
+    for (int m = 0; m < mesh.num_local(); ++m) {
+      const Vector3d p = cube.reference().col(m);
+      const Vector3d turned(c * (p.x() - p.y()), c * (p.x() + p.y()), p.z());
+      ASSERT_LT((mesh.reference().col(m) - turned).norm(), 1e-15);
+    }
+    for (size_t k = 0; k < mesh.classes().size(); ++k)
+      ASSERT_EQ(mesh.classes()[k], cube.classes()[k]);
+    // The +x axis: on an edge (a node class of two elements when nb is odd: the edge midpoint).
+    for (const Vector3d& axis : {Vector3d(1, 0, 0), Vector3d(0, -1, 0), Vector3d(0, 0, 1)}) {
+      int hits = 0;
+      for (const auto& cls : mesh.classes())
+        if ((mesh.reference().col(cls.front()) - axis).norm() < 1e-14) {
+          ++hits;
+          EXPECT_EQ(cls.size(), axis.z() != 0 ? 1u : 2u) << axis.transpose();
+        }
+      EXPECT_EQ(hits, nb % 2) << axis.transpose() << " nb " << nb;
+    }
+    for (int k = 0; k < 3; ++k)
+      for (int m = 0; m < mesh.num_local(); ++m) {
+        Vector3d p = mesh.reference().col(m);
+        p[k] = -p[k];
+        const int q = mesh.mirror(k)[m];
+        ASSERT_LT((mesh.reference().col(q) - p).norm(), 1e-12);
+        ASSERT_EQ(mesh.mirror(k)[q], m);
+        ASSERT_EQ(q / (nb * nb), mesh.mirror_element(m / (nb * nb), k));
+      }
+    for (int e = 0; e < 6; ++e) {
+      for (double xi : {-0.7, 0.1, 0.95})
+        for (double eta : {-0.9, 0.4}) {
+          const Mesh::Location at = mesh.locate(2.0 * mesh.sphere_point(e, xi, eta));
+          ASSERT_EQ(at.e, e);
+          EXPECT_NEAR(at.xi, xi, 1e-13);
+          EXPECT_NEAR(at.eta, eta, 1e-13);
+        }
+      for (double xi : {-1.0, 1.0}) {  // edge points go to an element holding them
+        const Vector3d p = mesh.sphere_point(e, xi, 0.3);
+        const Mesh::Location at = mesh.locate(p);
+        EXPECT_LT((mesh.sphere_point(at.e, at.xi, at.eta) - p).norm(), 1e-14);
+      }
+    }
+  }
+  // Area, volume and curvature of the sphere as on the cube (the turn is a rigid motion).
+  const Mesh d14(6, 14, ElementMap::Equiangular, Division::Diagonal);
+  const QuadratureSurface q = sample_gauss(d14, d14.reference(), 18);
+  double vol = 0;
+  for (int k = 0; k < q.x.cols(); ++k) vol += q.x.col(k).dot(q.n.col(k)) * q.w[k] / 3;
+  EXPECT_NEAR(q.w.sum() / (4 * kPi), 1.0, 1e-10);
+  EXPECT_NEAR(vol / (4 * kPi / 3), 1.0, 1e-10);
+  const SurfaceGeometry g = compute_geometry(d14, d14.reference());
+  EXPECT_NEAR((g.mean_curvature.array() - 1.0).abs().maxCoeff(),
+              max_mean_curvature_error_sphere(6, 14, ElementMap::Equiangular), 1e-12);
 }
