@@ -32,6 +32,11 @@ STEADY = [
     # on the paper's parallelepiped division (mesh.division box: NE=10 caps of 53 degrees)
     ("skalak_ca045_box", "Skalak C=1, Ca=0.45", 0.548, 1.76),
     ("skalak_ca060_box", "Skalak C=1, Ca=0.6", 0.595, 1.90),
+    # on the NE=6 cube turned 45 degrees about z (mesh.division diagonal: the tips on edges)
+    ("skalak_ca045_diag", "Skalak C=1, Ca=0.45", 0.548, 1.76),
+    ("skalak_ca060_diag", "Skalak C=1, Ca=0.6", 0.595, 1.90),
+    ("nh_ca018_diag", "neo-Hookean, Ca=0.18", 0.507, 1.60),
+    ("nh_ca021_diag", "neo-Hookean, Ca=0.21", 0.552, 1.71),
 ]
 STRONG = [
     ("strong_skalak_ca125", "Skalak C=1, Ca=1.25 from rest", "stable steady state (t=30 in the paper)"),
@@ -154,12 +159,17 @@ def series(rdir):
         return [{k: float(v) for k, v in r.items()} for r in csv.DictReader(f)]
 
 
+def division(cfg):
+    """" box" / " diagonal" for the non-default divisions (mesh.division), else ""."""
+    d = cfg["mesh"].get("division", "cube")
+    return "" if d == "cube" else " " + d
+
+
 def resolution(cfg, rdir=None):
     """Mesh and dt; for a run started from another run's shape ("start.from"), which run and
     at what time (its wall time is that of the continuation only)."""
-    r = "NE=%d%s NB=%d dt=%g" % (cfg["mesh"]["elements"],
-                                 " box" if cfg["mesh"].get("division") == "box" else "",
-                                 cfg["mesh"]["nb"], cfg["time"]["dt"])
+    r = "NE=%d%s NB=%d dt=%g" % (cfg["mesh"]["elements"], division(cfg), cfg["mesh"]["nb"],
+                                 cfg["time"]["dt"])
     src = cfg.get("start", {}).get("from")
     if src:
         t0 = None
@@ -291,7 +301,7 @@ def convergence_table(exe, reuse, only, name, nbs, ref_nb, paper):
         return
     print("Spectral convergence (paper fig. 4): Skalak C=%g, Ca=%g, NE=%d%s, dt=%g, D at t=%g against" % (
         cfg["capsule"].get("C", 1), cfg["ca"], cfg["mesh"]["elements"],
-        " (box division)" if cfg["mesh"].get("division") == "box" else "", cfg["time"]["dt"], t_at))
+        " (%s division)" % division(cfg).strip() if division(cfg) else "", cfg["time"]["dt"], t_at))
     two = fine is not None and fine_nb != ref_nb
     print("NB=%d as the paper (%s)%s:" % (ref_nb, paper, ", and against NB=%d" % fine_nb if two else ""))
     print()
@@ -366,7 +376,7 @@ def fig2_table(exe, reuse, only):
     print()
     print("| run | resolution | reached | D, L at the end | volume drift | wall | verdict |")
     print("|---|---|---|---|---|---|---|")
-    for name in ["fig2_smoothing", "fig2_volume_correction"]:
+    for name in ["fig2_smoothing", "fig2_volume_correction", "fig2_smoothing_diagonal"]:
         if (only and name not in only) or not os.path.exists(control(name)):
             continue
         rdir, cfg = ensure_run(exe, name, reuse)
