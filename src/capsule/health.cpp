@@ -10,11 +10,12 @@
 namespace capflow::capsule {
 
 namespace {
-std::string where(const geometry::Mesh& mesh, int m, const Eigen::Vector3d& p) {
+std::string where(const geometry::Mesh& mesh, int m, const Eigen::Vector3d& p,
+                  const char* label = "position") {
   const int nb = mesh.nb();
   std::ostringstream s;
-  s << "element " << m / (nb * nb) << ", node (" << m % nb << ", " << (m / nb) % nb
-    << "), position (" << p.x() << ", " << p.y() << ", " << p.z() << ")";
+  s << "element " << m / (nb * nb) << ", node (" << m % nb << ", " << (m / nb) % nb << "), "
+    << label << " (" << p.x() << ", " << p.y() << ", " << p.z() << ")";
   return s.str();
 }
 }  // namespace
@@ -34,6 +35,7 @@ HealthMonitor::HealthMonitor(const geometry::Mesh& mesh, const Eigen::Matrix3Xd&
     }
   modal_last_ = v.inverse().row(nb - 1);
   normals_ = geometry::compute_geometry(mesh, x0).n;
+  last_x_ = x0;
 }
 
 double HealthMonitor::oscillation_indicator(const Eigen::Matrix3Xd& x) const {
@@ -69,8 +71,8 @@ HealthReport HealthMonitor::check(const Eigen::Matrix3Xd& x, double t) {
     if (!x.col(m).allFinite()) {
       r.level = HealthLevel::Failure;
       r.cause = "nan";
-      r.message = "non-finite node position at t = " + std::to_string(t) + " (" +
-                  where(mesh_, m, normals_.col(m)) + " is the last good normal's node)";
+      r.message = "non-finite node position at t = " + std::to_string(t) + " at " +
+                  where(mesh_, m, last_x_.col(m), "last good position");
       return r;
     }
   const geometry::SurfaceGeometry g = geometry::compute_geometry(mesh_, x);
@@ -79,7 +81,7 @@ HealthReport HealthMonitor::check(const Eigen::Matrix3Xd& x, double t) {
       r.level = HealthLevel::Failure;
       r.cause = "jacobian";
       r.message = "element Jacobian changed sign at t = " + std::to_string(t) + " at " +
-                  where(mesh_, m, x.col(m));
+                  where(mesh_, m, last_x_.col(m), "last good position");
       return r;
     }
   }
@@ -113,6 +115,7 @@ HealthReport HealthMonitor::check(const Eigen::Matrix3Xd& x, double t) {
     }
   }
   normals_ = g.n;
+  last_x_ = x;
   return r;
 }
 

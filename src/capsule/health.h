@@ -73,6 +73,9 @@ class HealthMonitor {
   HealthOptions opt_;
   Eigen::MatrixXd modal_last_;  // row vector: nodal values -> coefficient of P_{NB-1}
   Eigen::Matrix3Xd normals_;
+  // Positions of the last good state (x0, then every Ok/Warning check): failure messages name
+  // a node by where it was, since a failed state's coordinates may be huge or not finite.
+  Eigen::Matrix3Xd last_x_;
   bool warned_oscillation_ = false;
   bool warned_wrinkle_ = false;
   bool warned_resolution_ = false;

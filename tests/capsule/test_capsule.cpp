@@ -133,6 +133,10 @@ TEST(Health, DetectsNanJacobianFlipAndOscillation) {
   HealthReport r = hm.check(x, 0.1);
   EXPECT_EQ(r.level, HealthLevel::Failure);
   EXPECT_EQ(r.cause, "nan");
+  // named by the node and where it was in the last good state (here the sphere)
+  EXPECT_NE(r.message.find("element 0, node (1, 2), last good position ("), std::string::npos)
+      << r.message;
+  EXPECT_EQ(r.message.find("nan"), std::string::npos) << r.message;
   // Inverting the surface flips every Jacobian.
   r = hm.check(geometry::map_points(mesh.reference(),
                                     [](const Eigen::Vector3d& p) -> Eigen::Vector3d {
@@ -141,6 +145,7 @@ TEST(Health, DetectsNanJacobianFlipAndOscillation) {
                0.2);
   EXPECT_EQ(r.cause, "jacobian");
   EXPECT_NE(r.message.find("t = 0.2"), std::string::npos);
+  EXPECT_NE(r.message.find("last good position"), std::string::npos);
   // A small sawtooth on the interior nodes of one element (a fresh monitor: the last good
   // state above is the sphere).
   HealthOptions opt;
