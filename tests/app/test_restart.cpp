@@ -164,37 +164,27 @@ TEST(StartFrom, RunGoesOnFromAnotherRunsShapeOnAnotherMesh) {
   EXPECT_NE(ev.find("\"restore_volume\":false"), std::string::npos);
   // Onto the parallelepiped division (mesh.division box): the same shape, the division kept in
   // the checkpoint, and the run resumes on it.
-  const fs::path d = test::fresh_dir("start_box");
-  control::ControlOptions od = ob;
-  od.output.dir = d.string();
-  od.mesh.division = geometry::Division::Box;
-  {
-    app::Simulation sim(od, "");
-    EXPECT_EQ(sim.run().steps, 5);
-  }
-  EXPECT_NEAR(csv_value(d / "timeseries.csv", 0, "D"), csv_value(a / "timeseries.csv", last_a, "D"), 2e-4);
-  EXPECT_EQ(output::Checkpoint::read(app::Simulation::latest_checkpoint(d.string())).integer("division"), 1);
-  {
+  auto onto = [&](const char* name, const control::MeshOptions& mesh, int64_t code) {
+    const fs::path dir = test::fresh_dir(name);
+    control::ControlOptions o = ob;
+    o.output.dir = dir.string();
+    o.mesh = mesh;
+    {
+      app::Simulation sim(o, "");
+      EXPECT_EQ(sim.run().steps, 5) << name;
+    }
+    EXPECT_NEAR(csv_value(dir / "timeseries.csv", 0, "D"), csv_value(a / "timeseries.csv", last_a, "D"), 2e-4)
+        << name;
+    EXPECT_EQ(output::Checkpoint::read(app::Simulation::latest_checkpoint(dir.string())).integer("division"), code)
+        << name;
     app::ResumeOverrides ov;
     ov.t_end = 0.07;
-    EXPECT_EQ(app::Simulation::resume(d.string(), ov)->run().steps, 7);
-  }
-  // Onto the turned cube (mesh.division diagonal, NE=6): the same shape, its division kept.
-  const fs::path g = test::fresh_dir("start_diagonal");
-  control::ControlOptions og = ob;
-  og.output.dir = g.string();
-  og.mesh = {6, 8, geometry::Division::Diagonal};
-  {
-    app::Simulation sim(og, "");
-    EXPECT_EQ(sim.run().steps, 5);
-  }
-  EXPECT_NEAR(csv_value(g / "timeseries.csv", 0, "D"), csv_value(a / "timeseries.csv", last_a, "D"), 2e-4);
-  EXPECT_EQ(output::Checkpoint::read(app::Simulation::latest_checkpoint(g.string())).integer("division"), 2);
-  {
-    app::ResumeOverrides ov;
-    ov.t_end = 0.07;
-    EXPECT_EQ(app::Simulation::resume(g.string(), ov)->run().steps, 7);
-  }
+    EXPECT_EQ(app::Simulation::resume(dir.string(), ov)->run().steps, 7) << name;
+    return dir;
+  };
+  const fs::path d = onto("start_box", {10, 8, geometry::Division::Box}, 1);
+  // Onto the turned cube (mesh.division diagonal, NE=6): the same, with its division.
+  const fs::path g = onto("start_diagonal", {6, 8, geometry::Division::Diagonal}, 2);
   fs::remove_all(a);
   fs::remove_all(b);
   fs::remove_all(c);

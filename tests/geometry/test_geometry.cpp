@@ -20,6 +20,34 @@ double max_mean_curvature_error_sphere(int ne, int nb, ElementMap map) {
   const SurfaceGeometry g = compute_geometry(mesh, mesh.reference());
   return (g.mean_curvature.array() - 1.0).abs().maxCoeff();
 }
+
+// Every node's mirror image in each plane x_k = 0 is the node at the reflected position, the
+// maps are involutions, and they map elements onto the mirror elements.
+void expect_mirror_images(const Mesh& mesh) {
+  const int nn = mesh.nodes_per_element();
+  for (int k = 0; k < 3; ++k) {
+    const auto& mir = mesh.mirror(k);
+    for (int m = 0; m < mesh.num_local(); ++m) {
+      Vector3d p = mesh.reference().col(m);
+      p[k] = -p[k];
+      ASSERT_LT((mesh.reference().col(mir[m]) - p).norm(), 1e-12);
+      ASSERT_EQ(mir[mir[m]], m);
+      ASSERT_EQ(mir[m] / nn, mesh.mirror_element(m / nn, k));
+    }
+  }
+}
+
+// locate inverts sphere_point at interior parameters of every element.
+void expect_locate_round_trip(const Mesh& mesh) {
+  for (int e = 0; e < mesh.ne(); ++e)
+    for (double xi : {-0.7, 0.1, 0.95})
+      for (double eta : {-0.9, 0.4}) {
+        const Mesh::Location at = mesh.locate(2.0 * mesh.sphere_point(e, xi, eta));
+        ASSERT_EQ(at.e, e);
+        EXPECT_NEAR(at.xi, xi, 1e-13);
+        EXPECT_NEAR(at.eta, eta, 1e-13);
+      }
+}
 }  // namespace
 
 TEST(Geometry, RejectsBadDivisions) {
@@ -73,19 +101,7 @@ TEST(Geometry, CoincidenceClassesHaveTheRightValences) {
 
 TEST(Geometry, MirrorMapsReflectPositions) {
   for (int ne : {6, 10, 14}) {
-    for (int nb = 4; nb <= 16; nb += 3) {
-      const Mesh mesh(ne, nb);
-      for (int k = 0; k < 3; ++k) {
-        const auto& mir = mesh.mirror(k);
-        for (int m = 0; m < mesh.num_local(); ++m) {
-          Vector3d p = mesh.reference().col(m);
-          p[k] = -p[k];
-          ASSERT_LT((mesh.reference().col(mir[m]) - p).norm(), 1e-12);
-          ASSERT_EQ(mir[mir[m]], m);  // an involution
-          ASSERT_EQ(mir[m] / (nb * nb), mesh.mirror_element(m / (nb * nb), k));
-        }
-      }
-    }
+    for (int nb = 4; nb <= 16; nb += 3) expect_mirror_images(Mesh(ne, nb));
   }
 }
 
@@ -302,20 +318,8 @@ TEST(Geometry, BoxDivisionTilesTheSphereWithUnitSquareFaces) {
       EXPECT_EQ(count[3], 8);
       EXPECT_EQ(count[4], ne == 6 ? 0 : ne == 10 ? 4 : 8);
       EXPECT_EQ(count[2], 2 * ne * (nb - 2));
-      for (int k = 0; k < 3; ++k)
-        for (int m = 0; m < mesh.num_local(); ++m) {
-          Vector3d p = mesh.reference().col(m);
-          p[k] = -p[k];
-          ASSERT_LT((mesh.reference().col(mesh.mirror(k)[m]) - p).norm(), 1e-12);
-        }
-      for (int e = 0; e < ne; ++e)
-        for (double xi : {-0.7, 0.1, 0.95})
-          for (double eta : {-0.9, 0.4}) {
-            const Mesh::Location at = mesh.locate(2.0 * mesh.sphere_point(e, xi, eta));
-            ASSERT_EQ(at.e, e);
-            EXPECT_NEAR(at.xi, xi, 1e-13);
-            EXPECT_NEAR(at.eta, eta, 1e-13);
-          }
+      expect_mirror_images(mesh);
+      expect_locate_round_trip(mesh);
     }
   }
   // NE=10: the caps +-x span 2 atan(1/2) (53 degrees) in each direction, not 90.
@@ -376,23 +380,9 @@ TEST(Geometry, DiagonalDivisionIsTheCubeTurnedAboutZ) {
         }
       EXPECT_EQ(hits, nb % 2) << axis.transpose() << " nb " << nb;
     }
-    for (int k = 0; k < 3; ++k)
-      for (int m = 0; m < mesh.num_local(); ++m) {
-        Vector3d p = mesh.reference().col(m);
-        p[k] = -p[k];
-        const int q = mesh.mirror(k)[m];
-        ASSERT_LT((mesh.reference().col(q) - p).norm(), 1e-12);
-        ASSERT_EQ(mesh.mirror(k)[q], m);
-        ASSERT_EQ(q / (nb * nb), mesh.mirror_element(m / (nb * nb), k));
-      }
+    expect_mirror_images(mesh);
+    expect_locate_round_trip(mesh);
     for (int e = 0; e < 6; ++e) {
-      for (double xi : {-0.7, 0.1, 0.95})
-        for (double eta : {-0.9, 0.4}) {
-          const Mesh::Location at = mesh.locate(2.0 * mesh.sphere_point(e, xi, eta));
-          ASSERT_EQ(at.e, e);
-          EXPECT_NEAR(at.xi, xi, 1e-13);
-          EXPECT_NEAR(at.eta, eta, 1e-13);
-        }
       for (double xi : {-1.0, 1.0}) {  // edge points go to an element holding them
         const Vector3d p = mesh.sphere_point(e, xi, 0.3);
         const Mesh::Location at = mesh.locate(p);
