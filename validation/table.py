@@ -162,8 +162,13 @@ def series(rdir):
 
 
 def division(cfg):
-    """" box" / " diagonal" for the non-default divisions (mesh.division), else ""."""
-    d = cfg["mesh"].get("division", "cube")
+    """" box" / " diagonal" for the box and turned-cube divisions (mesh.division), else "".
+    A file without mesh.division gets control::default_division (src/control/options.h)."""
+    mesh = cfg.get("mesh", {})
+    ne = mesh.get("elements", 10)
+    planar = cfg.get("flow", {}).get("type", "planar-extension") == "planar-extension"
+    default = "diagonal" if planar and ne == 6 else "box" if planar and ne == 10 else "cube"
+    d = mesh.get("division", default)
     return "" if d == "cube" else " " + d
 
 

@@ -385,10 +385,12 @@ ParsedControl parse_control(const std::string& text, const std::string& source) 
       out.warnings.push_back({"capsule.psi", "ignored: psi applies to the Mooney-Rivlin law only"});
     r.finish();
   }
+  bool division_given = false;
   {
     Reader r = root.object("mesh");
     r.integer_of("elements", &o.mesh.elements, {6, 10, 14}, "the element division");
     r.integer("nb", &o.mesh.nb, 4, 24, "nodes per element direction");
+    division_given = r.present("division");
     const int d = r.choice("division", {"cube", "box", "diagonal"});
     if (d >= 0) o.mesh.division = static_cast<geometry::Division>(d);
     if (o.mesh.division == geometry::Division::Diagonal && o.mesh.elements != 6)
@@ -409,6 +411,7 @@ ParsedControl parse_control(const std::string& text, const std::string& source) 
     if (t == 1) o.flow = capsule::Flow::simple_shear();
     r.finish();
   }
+  if (!division_given) o.mesh.division = default_division(o.mesh.elements, o.flow.type);
   {
     Reader r = root.object("time");
     r.number("dt", &o.time.dt, open_closed(0.0, 0.1), "the time step dt");
@@ -525,14 +528,15 @@ ParsedControl parse_control(const std::string& text, const std::string& source) 
     out.warnings.push_back({"time.dt", s.str()});
   }
   if (o.flow.type == capsule::FlowType::PlanarExtension && o.mesh.elements != 14 &&
-      o.mesh.division != geometry::Division::Diagonal)
+      o.mesh.division == geometry::Division::Cube)
     out.warnings.push_back(
-        {"mesh.elements", std::to_string(o.mesh.elements) +
-                              ": in planar extension the capsule's tips (+-x) lie in one cap "
-                              "element, whose resolution limits volume conservation (Skalak "
-                              "Ca=0.45, NB=8, t=1: drift -1.8e-4 at NE=6, -3.8e-6 at NE=6 with "
-                              "mesh.division \"diagonal\" (the tips on element edges), -3.7e-7 "
-                              "at NE=14); NE=14 (three rows along y) resolves the tips"});
+        {"mesh.division", std::string("\"cube\" with ") + std::to_string(o.mesh.elements) +
+                              " elements: in planar extension the capsule's tips (+-x) lie in "
+                              "the middle of a 90-degree cap element, whose resolution limits "
+                              "volume conservation and stability (Skalak Ca=0.45, NB=8, t=1: "
+                              "drift -1.8e-4 / -1.9e-4 on the NE=6 / NE=10 cube, -3.8e-6 / "
+                              "-1.9e-6 with the default division \"diagonal\" / \"box\", "
+                              "-3.9e-7 at NE=14)"});
   if (!o.numerics.smoothing)
     out.warnings.push_back({"numerics.smoothing", "false: without the membrane smoothing the "
                                                   "method is unstable (paper fig. 2a)"});

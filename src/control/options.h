@@ -24,9 +24,22 @@ struct MeshOptions {
   // "mesh.division": "cube" (the faces of the cube split in equal angles) | "box" (the paper's
   // parallelepiped of unit-square faces: NE=10 on a 2:1:1 box, NE=14 on 1:3:1) | "diagonal"
   // (NE=6 only: the cube turned 45 degrees about z, the +-x and +-y tips on element edges;
-  // geometry/mesh.h)
+  // geometry/mesh.h). Default: default_division(elements, flow type).
   geometry::Division division = geometry::Division::Cube;
 };
+
+// The division of a control file that does not name one. In planar extension the capsule's
+// tips (+-x) decide the accuracy, and the cube puts each of them in the middle of a 90-degree
+// cap element: NE=6 gets the turned cube (the tips on element edges) and NE=10 the paper's
+// parallelepiped (53-degree caps); NE=14 keeps the cube (its three rows along y already cut the
+// tip region). Simple shear keeps the cube. (Skalak Ca=0.45, NB=8, t=1: volume drift -1.8e-4 /
+// -1.9e-4 on the NE=6 / NE=10 cubes against -3.8e-6 / -1.9e-6 on these; docs/validation.md.)
+inline geometry::Division default_division(int elements, capsule::FlowType flow) {
+  if (flow != capsule::FlowType::PlanarExtension) return geometry::Division::Cube;
+  if (elements == 6) return geometry::Division::Diagonal;
+  if (elements == 10) return geometry::Division::Box;
+  return geometry::Division::Cube;
+}
 
 // The control-file name of a division ("cube", "box", "diagonal").
 inline const char* division_name(geometry::Division d) {

@@ -193,16 +193,19 @@ TEST(ControlFile, TimeStepAboveStabilityEstimateWarns) {
   for (const auto& w : q.warnings) EXPECT_NE(w.path, "time.dt");
 }
 
-TEST(ControlFile, PlanarExtensionOffTheTipResolvingMeshWarns) {
+TEST(ControlFile, PlanarExtensionOnTheAxisAlignedCubeWarns) {
   auto warns = [](const char* json) {
     for (const auto& w : parse_control(json).warnings)
-      if (w.path == "mesh.elements") return true;
+      if (w.path == "mesh.division") return true;
     return false;
   };
-  EXPECT_TRUE(warns(R"({"ca": 0.45, "mesh": {"elements": 6}})"));
-  EXPECT_TRUE(warns(R"({"ca": 0.45})"));  // default NE=10
+  EXPECT_TRUE(warns(R"({"ca": 0.45, "mesh": {"elements": 6, "division": "cube"}})"));
+  EXPECT_TRUE(warns(R"({"ca": 0.45, "mesh": {"division": "cube"}})"));  // default NE=10
+  EXPECT_FALSE(warns(R"({"ca": 0.45, "mesh": {"elements": 6}})"));      // default: diagonal
+  EXPECT_FALSE(warns(R"({"ca": 0.45})"));                               // default: box
   EXPECT_FALSE(warns(R"({"ca": 0.45, "mesh": {"elements": 14}})"));
-  EXPECT_FALSE(warns(R"({"ca": 0.45, "mesh": {"elements": 6}, "flow": {"type": "simple-shear"}})"));
+  EXPECT_FALSE(warns(R"({"ca": 0.45, "mesh": {"elements": 6, "division": "cube"},
+                         "flow": {"type": "simple-shear"}})"));
 }
 
 TEST(ControlFile, NumericsMapToTheSolverOptions) {
@@ -287,7 +290,19 @@ TEST(ControlEdit, QuadratureScaleCannotChangeMidRun) {
 }
 
 TEST(ControlFile, MeshDivision) {
-  EXPECT_EQ(parse_control(kMinimal).options.mesh.division, capflow::geometry::Division::Cube);
+  // the default follows the flow: in planar extension the tips (+-x) on element edges (NE=6)
+  // or in the parallelepiped's narrower caps (NE=10); the cube otherwise
+  using capflow::geometry::Division;
+  auto division_of = [](const char* json) { return parse_control(json).options.mesh.division; };
+  EXPECT_EQ(division_of(R"({"ca": 0.4, "mesh": {"elements": 6}})"), Division::Diagonal);
+  EXPECT_EQ(division_of(R"({"ca": 0.4, "mesh": {"elements": 10}})"), Division::Box);
+  EXPECT_EQ(division_of(R"({"ca": 0.4, "mesh": {"elements": 14}})"), Division::Cube);
+  EXPECT_EQ(division_of(R"({"ca": 0.4, "mesh": {"elements": 6}, "flow": {"type": "simple-shear"}})"),
+            Division::Cube);
+  EXPECT_EQ(division_of(R"({"ca": 0.4, "mesh": {"elements": 10}, "flow": {"type": "simple-shear"}})"),
+            Division::Cube);
+  EXPECT_EQ(division_of(R"({"ca": 0.4, "mesh": {"elements": 6, "division": "cube"}})"),
+            Division::Cube);
   const ParsedControl p = parse_control(R"({"ca": 0.4, "mesh": {"division": "box"}})");
   EXPECT_EQ(p.options.mesh.division, capflow::geometry::Division::Box);
   // the effective control file keeps it
