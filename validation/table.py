@@ -41,6 +41,7 @@ STEADY = [
     ("nh_ca021_diag_nb14", "neo-Hookean, Ca=0.21", 0.552, 1.71),
     ("skalak_ca045_diag_nb16", "Skalak C=1, Ca=0.45", 0.548, 1.76),
     ("skalak_ca060_diag_nb16", "Skalak C=1, Ca=0.6", 0.595, 1.90),
+    ("skalak_ca060_diag_nb18", "Skalak C=1, Ca=0.6", 0.595, 1.90),
     ("nh_ca018_diag_nb16", "neo-Hookean, Ca=0.18", 0.507, 1.60),
     ("nh_ca021_diag_nb16", "neo-Hookean, Ca=0.21", 0.552, 1.71),
 ]
