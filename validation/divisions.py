@@ -14,11 +14,10 @@ import argparse
 import json
 import os
 import re
-import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from table import ROOT, end_line, fmt_wall  # noqa: E402
+from table import ROOT, default_division, end_line, fmt_wall, run_capflow  # noqa: E402
 
 OUT = os.path.join(ROOT, "runs", "validation", "divisions")
 
@@ -38,8 +37,6 @@ CASES = [
     ("s125_ne10_cube", 1.25, 10, 10, "cube", 2e-3, 10.0),
     ("s125_ne10_box", 1.25, 10, 10, "box", 2e-3, 10.0),
 ]
-# control::default_division in planar extension
-DEFAULT = {6: "diagonal", 10: "box", 14: "cube"}
 
 
 def control(name, ca, ne, nb, division, dt, t_end):
@@ -64,10 +61,7 @@ def ensure_run(exe, name, cfg, reuse):
     path = rdir + ".json"
     with open(path, "w") as f:
         json.dump(cfg, f, indent=1)
-    cmd = [exe, "run", path, "-o", rdir]
-    print("validation/divisions.py: " + " ".join(cmd), file=sys.stderr, flush=True)
-    with open(rdir + ".out", "w") as log:
-        subprocess.run(cmd, stdout=log, stderr=subprocess.STDOUT, check=False)
+    run_capflow(exe, path, rdir, "validation/divisions.py")
     return rdir
 
 
@@ -108,7 +102,7 @@ def main():
             continue
         warning, failure = health(rdir)
         reached = "t=%g" % e["t"] if e["reason"] == "t_end reached" else "**failed**: %s" % failure
-        label = division + (" (default)" if DEFAULT.get(ne) == division else "")
+        label = division + (" (default)" if default_division(ne, "planar-extension") == division else "")
         print("| %s | %g | %d | %s | %d, %g | %s | %.5f | %.5f | %.2e | %s | %s |" % (
             name, ca, ne, label, nb, dt, reached, e["D"], e["L"], e["drift"], warning or "none",
             fmt_wall(e["wall"])))

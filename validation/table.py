@@ -130,11 +130,16 @@ def ensure_run(exe, name, reuse, nb=None, t_end=None):
             json.dump(cfg, f)
     if reuse == "only" or (reuse and end_line(rdir) is not None):
         return rdir, cfg
+    run_capflow(exe, path, rdir, "validation/table.py")
+    return rdir, cfg
+
+
+def run_capflow(exe, path, rdir, caller):
+    """`capflow run PATH -o RDIR`, its console output in RDIR.out."""
     cmd = [exe, "run", path, "-o", rdir]
-    print("validation/table.py: " + " ".join(cmd), file=sys.stderr, flush=True)
+    print(caller + ": " + " ".join(cmd), file=sys.stderr, flush=True)
     with open(rdir + ".out", "w") as log:
         subprocess.run(cmd, stdout=log, stderr=subprocess.STDOUT, check=False)
-    return rdir, cfg
 
 
 def steady_row(rdir):
@@ -166,14 +171,19 @@ def series(rdir):
         return [{k: float(v) for k, v in r.items()} for r in csv.DictReader(f)]
 
 
+def default_division(ne, flow):
+    """control::default_division (src/control/options.h): the division of a control file that
+    names none."""
+    if flow != "planar-extension":
+        return "cube"
+    return {6: "diagonal", 10: "box"}.get(ne, "cube")
+
+
 def division(cfg):
-    """" box" / " diagonal" for the box and turned-cube divisions (mesh.division), else "".
-    A file without mesh.division gets control::default_division (src/control/options.h)."""
+    """" box" / " diagonal" for the box and turned-cube divisions (mesh.division), else ""."""
     mesh = cfg.get("mesh", {})
-    ne = mesh.get("elements", 10)
-    planar = cfg.get("flow", {}).get("type", "planar-extension") == "planar-extension"
-    default = "diagonal" if planar and ne == 6 else "box" if planar and ne == 10 else "cube"
-    d = mesh.get("division", default)
+    d = mesh.get("division") or default_division(
+        mesh.get("elements", 10), cfg.get("flow", {}).get("type", "planar-extension"))
     return "" if d == "cube" else " " + d
 
 
