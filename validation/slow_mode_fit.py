@@ -1,11 +1,13 @@
 #!/usr/bin/env python3
 """Fits y(t) = y_inf + c exp(-(t - t_end)/tau) to columns of a run's timeseries.csv over
-t >= T0 (least squares in y_inf and c for each tau on a grid of 0.1), and prints, per column,
+T0 <= t (<= T1 if given; t_end is the last time fitted) (least squares in y_inf and c for each
+tau on a grid: 0.01 steps up to 1, then 0.1 steps), and prints, per column,
 the asymptote y_inf, tau, the last value, the rate dy/dt at the end, the rms misfit and the time
 at which |dy/dt| would fall below the steady tolerance (1e-4 per unit time) if the one mode
-goes on. Used for the neo-Hookean Ca=0.4 notes of docs/validation.md.
+goes on. Used for the neo-Hookean Ca=0.4 notes of docs/validation.md and for the shear states
+before the wrinkles grow (T0:T1 ends the fit where the health monitor first warns).
 
-Usage: validation/slow_mode_fit.py RUN_DIR T0 [COLUMN ...]   (default columns L S W Lc
+Usage: validation/slow_mode_fit.py RUN_DIR T0[:T1] [COLUMN ...]   (default columns L S W Lc
 edge_curvature tau_max)
 """
 import csv
@@ -33,14 +35,15 @@ def fit(t, y, taus):
 def main():
     if len(sys.argv) < 3:
         sys.exit(__doc__)
-    rdir, t0 = sys.argv[1], float(sys.argv[2])
+    rdir, span = sys.argv[1], sys.argv[2].split(":")
+    t0, t1 = float(span[0]), float(span[1]) if len(span) > 1 else math.inf
     cols = sys.argv[3:] or ["L", "S", "W", "Lc", "edge_curvature", "tau_max"]
     with open(os.path.join(rdir, "timeseries.csv")) as f:
-        rows = [r for r in csv.DictReader(f) if float(r["t"]) >= t0]
+        rows = [r for r in csv.DictReader(f) if t0 <= float(r["t"]) <= t1]
     if len(rows) < 5:
-        sys.exit("slow_mode_fit.py: fewer than 5 rows with t >= %g in %s" % (t0, rdir))
+        sys.exit("slow_mode_fit.py: fewer than 5 rows with %g <= t <= %g in %s" % (t0, t1, rdir))
     t = [float(r["t"]) for r in rows]
-    taus = [1 + 0.1 * k for k in range(1, 2000)]
+    taus = [0.01 * k for k in range(1, 100)] + [1 + 0.1 * k for k in range(0, 2000)]
     print("fit over t = %.3f .. %.3f (%d rows)" % (t[0], t[-1], len(t)))
     for col in cols:
         if col not in rows[0]:
