@@ -5,6 +5,8 @@
 // nodes by u(R x) = R u(x), R = diag(+-1, +-1, +-1) (about 8x fewer targets).
 // Simple shear u = (z, 0, 0) keeps the mirror y -> -y and the point reflection
 // (x, z) -> (-x, -z): targets with y >= 0 and x >= 0 (about 4x fewer).
+// A custom gradient G gets the octant when it is diagonal and the shear pair when y decouples
+// from x and z (capsule.cpp, symmetry_for); any other G is evaluated at every node.
 // The maps act on node labels through the mesh's mirror maps (material points), so they hold
 // for every deformed state that started symmetric (the initial sphere).
 #pragma once

@@ -214,6 +214,46 @@ class Reader {
 };
 
 // "hold": "steady" or a duration.
+// flow.gradient: 3 rows of 3 finite numbers, |G_ij| <= 100, not all zero, trace within 1e-9 of
+// the largest entry (then removed from the diagonal: Flow::custom needs it exact).
+template <class Error>
+bool read_gradient(const json& v, capsule::Flow* flow, Error error) {
+  Eigen::Matrix3d g;
+  const bool shape = v.is_array() && v.size() == 3 &&
+                     std::all_of(v.begin(), v.end(), [](const json& row) {
+                       return row.is_array() && row.size() == 3 &&
+                              std::all_of(row.begin(), row.end(),
+                                          [](const json& x) { return x.is_number(); });
+                     });
+  if (!shape) {
+    error("expected 3 rows of 3 numbers (the velocity gradient G, u = G x), got " + show(v));
+    return false;
+  }
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      g(i, j) = v[i][j].get<double>();
+      if (!std::isfinite(g(i, j)) || std::abs(g(i, j)) > 100) {
+        error("entry [" + std::to_string(i) + "][" + std::to_string(j) + "] = " + show(v[i][j]) +
+              " is out of range: every entry must be in [-100, 100]");
+        return false;
+      }
+    }
+  const double big = g.cwiseAbs().maxCoeff();
+  if (big == 0) {
+    error("is zero: give a nonzero gradient (its scale sets the time unit and Ca)");
+    return false;
+  }
+  if (std::abs(g.trace()) > 1e-9 * big) {
+    std::ostringstream m;
+    m << "has trace " << g.trace() << ": the flow must be incompressible, G00 + G11 + G22 = 0";
+    error(m.str());
+    return false;
+  }
+  g.diagonal().array() -= g.trace() / 3;
+  *flow = capsule::Flow::custom(g);
+  return true;
+}
+
 void read_hold(Reader& r, CaSegment* s) {
   const json* v = r.get("hold");
   if (!v) return;
@@ -406,9 +446,20 @@ ParsedControl parse_control(const std::string& text, const std::string& source) 
   }
   {
     Reader r = root.object("flow");
-    const int t = r.choice("type", {"planar-extension", "simple-shear"});
+    const int t = r.choice("type", {"planar-extension", "simple-shear", "custom"});
     if (t == 0) o.flow = capsule::Flow::planar_extension();
     if (t == 1) o.flow = capsule::Flow::simple_shear();
+    const json* g = r.get("gradient");
+    if (t == 2 && !g)
+      r.error("gradient", "missing: \"type\": \"custom\" needs the velocity gradient G (u = G x) "
+                          "as 3 rows of 3 numbers, e.g. [[1, 0, 0], [0, -0.5, 0], [0, 0, -0.5]]");
+    if (g && t != 2 && t >= 0)
+      r.error("gradient", "only with \"type\": \"custom\" (planar extension and simple shear "
+                          "have their own gradients)");
+    if (g && t == 2) {
+      capsule::Flow f;
+      if (read_gradient(*g, &f, [&](const std::string& m) { r.error("gradient", m); })) o.flow = f;
+    }
     r.finish();
   }
   if (!division_given) o.mesh.division = default_division(o.mesh.elements, o.flow.type);
@@ -568,6 +619,12 @@ std::string to_json_text(const ControlOptions& o) {
   if (!o.start.from.empty())  // (an empty "from" is not valid input: omit the default)
     j["start"] = {{"from", o.start.from}, {"restore_volume", o.start.restore_volume}};
   j["flow"] = {{"type", o.flow.name()}};
+  if (o.flow.type == capsule::FlowType::Custom) {
+    json rows = json::array();
+    for (int i = 0; i < 3; ++i)
+      rows.push_back({o.flow.gradient(i, 0), o.flow.gradient(i, 1), o.flow.gradient(i, 2)});
+    j["flow"]["gradient"] = rows;
+  }
   j["time"] = {{"dt", o.time.dt}, {"t_end", o.time.t_end}};
   if (o.ca.constant && o.ca.segments.size() == 1) {
     j["ca"] = o.ca.segments[0].ca;

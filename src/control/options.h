@@ -144,7 +144,8 @@ struct ControlOptions {
   double viscosity_ratio = 1.0;       // "capsule.viscosity_ratio": only 1 is implemented
   MeshOptions mesh;
   StartOptions start;                 // "start"
-  capsule::Flow flow;                 // "flow.type": "planar-extension" | "simple-shear"
+  capsule::Flow flow;                 // "flow.type": "planar-extension" | "simple-shear" |
+                                      // "custom" (with "flow.gradient": G, u = G x)
   TimeOptions time;
   CaSchedule ca;                      // "ca": number or list of segments
   SteadyOptions steady;

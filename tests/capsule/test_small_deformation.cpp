@@ -20,6 +20,7 @@
 
 #include "capsule/capsule.h"
 #include "capsule/health.h"
+#include "capsule/symmetry.h"
 #include "diagnostics/diagnostics.h"
 #include "geometry/mesh.h"
 #include "membrane/law.h"
@@ -101,6 +102,36 @@ TEST(SmallDeformation, MooneyRivlinHasTheSameLinearModuli) {
               ca, s.D / ca, w / ca, 100 * (s.D / w - 1), (s.tau_max - s.tau_min) / ca);
   EXPECT_NEAR(s.D / w, 1.0, 0.015);  // measured +0.72 % (neo-Hookean +0.44 %, Skalak -0.28 %)
   EXPECT_NEAR((s.tau_max - s.tau_min) / (10 * ca), 1.0, 0.05);
+}
+
+TEST(SmallDeformation, UniaxialExtensionThroughACustomGradient) {
+  // u = (x, -y/2, -z/2) (Flow::custom; diagonal, so the octant symmetry applies): r = 1 + w Y
+  // with Y = x^2 - (y^2 + z^2)/2, so L - 1 = w = 25/6 Ca, S - 1 = W - 1 = -w/2. Here E.E is
+  // proportional to E, so the O(Ca^2) term moves L and S (-3.5 % at Ca = 0.01, not -0.3 % as in
+  // planar extension): two Ca and Richardson extrapolation to Ca -> 0.
+  const Eigen::Matrix3d g = Eigen::Vector3d(1, -0.5, -0.5).asDiagonal();
+  double l[2], s[2];
+  const double cas[2] = {0.005, 0.0025};
+  for (int k = 0; k < 2; ++k) {
+    const geometry::Mesh mesh(6, 8);
+    capsule::Capsule cap(mesh, skalak(1), capsule::Flow::custom(g), capsule::DynamicsOptions{});
+    EXPECT_EQ(cap.symmetry().kind(), capsule::SymmetryKind::Octant);
+    const double ca = cas[k], dt = 1e-4 * ca / 0.005;
+    const long steps = std::lround(0.2 * ca / 0.005 / dt);
+    for (long i = 0; i < steps; ++i) cap.step(dt, [ca](double) { return ca; });
+    diagnostics::ShapeOptions so;
+    so.extrema = so.edge_curvature = false;
+    const auto d = diagnostics::measure_shape(mesh, cap.positions(), so);
+    l[k] = (d.L - 1) / ca;
+    s[k] = (d.S - 1) / ca;
+  }
+  const double l0 = 2 * l[1] - l[0], s0 = 2 * s[1] - s[0], w = w_theory(1, 3);
+  std::printf("uniaxial extension: (L-1)/Ca %.4f, %.4f at Ca = 0.005, 0.0025 -> %.4f at Ca -> 0 "
+              "(theory %.4f, %+.3f %%); (S-1)/Ca %.4f, %.4f -> %.4f (theory %.4f, %+.3f %%)\n",
+              l[0], l[1], l0, w, 100 * (l0 / w - 1), s[0], s[1], s0, -w / 2,
+              100 * (s0 / (-w / 2) - 1));
+  EXPECT_NEAR(l0 / w, 1.0, 0.002);  // measured +0.027 %
+  EXPECT_NEAR(s0 / (-w / 2), 1.0, 0.002);  // measured -0.012 %
 }
 
 TEST(SmallDeformation, SimpleShearNeoHookean) {

@@ -135,8 +135,34 @@ TEST(ControlFile, ViscosityRatioOtherThanOneIsRefused) {
 
 TEST(ControlFile, FlowAndRunChoices) {
   expect_contains(issue_at(R"({"ca": 0.4, "flow": {"type": "shear"}})", "flow.type"),
-                  "\"planar-extension\", \"simple-shear\"");
+                  "\"planar-extension\", \"simple-shear\", \"custom\"");
   expect_contains(issue_at(R"({"ca": 0.4, "run": {"state": "go"}})", "run.state"), "\"running\"");
+}
+
+TEST(ControlFile, CustomFlowGradient) {
+  const ParsedControl p = parse_control(
+      R"({"ca": 0.4, "flow": {"type": "custom", "gradient": [[1, 0, 0], [0, -0.5, 0], [0, 0, -0.5]]}})");
+  EXPECT_EQ(p.options.flow.type, capflow::capsule::FlowType::Custom);
+  EXPECT_EQ(p.options.flow.gradient(2, 2), -0.5);
+  EXPECT_EQ(p.options.mesh.division, capflow::geometry::Division::Cube);
+  const ParsedControl q = parse_control(to_json_text(p.options));  // the effective file keeps G
+  EXPECT_EQ(q.options.flow.type, capflow::capsule::FlowType::Custom);
+  EXPECT_EQ(q.options.flow.gradient, p.options.flow.gradient);
+  // a trace at round-off (thirds) is removed; a real one is refused with its value
+  const ParsedControl t = parse_control(R"({"ca": 0.4, "flow": {"type": "custom", "gradient":
+      [[0.6666666666666666, 0, 0], [0, -0.3333333333333333, 0], [0, 0, -0.3333333333333333]]}})");
+  EXPECT_EQ(t.options.flow.gradient.trace(), 0.0);
+  expect_contains(issue_at(R"({"ca": 0.4, "flow": {"type": "custom",
+      "gradient": [[1, 0, 0], [0, -0.4, 0], [0, 0, -0.5]]}})", "flow.gradient"), "has trace 0.1");
+  expect_contains(issue_at(R"({"ca": 0.4, "flow": {"type": "custom"}})", "flow.gradient"), "missing");
+  expect_contains(issue_at(R"({"ca": 0.4, "flow": {"type": "custom", "gradient": [1, 0, 0]}})",
+                           "flow.gradient"), "3 rows of 3 numbers");
+  expect_contains(issue_at(R"({"ca": 0.4, "flow": {"type": "custom",
+      "gradient": [[0, 0, 0], [0, 0, 0], [0, 0, 0]]}})", "flow.gradient"), "is zero");
+  expect_contains(issue_at(R"({"ca": 0.4, "flow": {"type": "custom",
+      "gradient": [[1e3, 0, 0], [0, -1e3, 0], [0, 0, 0]]}})", "flow.gradient"), "[-100, 100]");
+  expect_contains(issue_at(R"({"ca": 0.4, "flow": {"type": "simple-shear",
+      "gradient": [[1, 0, 0], [0, -1, 0], [0, 0, 0]]}})", "flow.gradient"), "only with");
 }
 
 TEST(ControlFile, ScheduleSegments) {
