@@ -453,7 +453,7 @@ ParsedControl parse_control(const std::string& text, const std::string& source) 
     if (t == 2 && !g)
       r.error("gradient", "missing: \"type\": \"custom\" needs the velocity gradient G (u = G x) "
                           "as 3 rows of 3 numbers, e.g. [[1, 0, 0], [0, -0.5, 0], [0, 0, -0.5]]");
-    if (g && t != 2 && t >= 0)
+    if (g && t != 2)  // (also when "type" is missing: it would default to planar extension)
       r.error("gradient", "only with \"type\": \"custom\" (planar extension and simple shear "
                           "have their own gradients)");
     if (g && t == 2) {

@@ -163,6 +163,8 @@ TEST(ControlFile, CustomFlowGradient) {
       "gradient": [[1e3, 0, 0], [0, -1e3, 0], [0, 0, 0]]}})", "flow.gradient"), "[-100, 100]");
   expect_contains(issue_at(R"({"ca": 0.4, "flow": {"type": "simple-shear",
       "gradient": [[1, 0, 0], [0, -1, 0], [0, 0, 0]]}})", "flow.gradient"), "only with");
+  expect_contains(issue_at(R"({"ca": 0.4, "flow": {"gradient": [[1, 0, 0], [0, -1, 0], [0, 0, 0]]}})",
+                           "flow.gradient"), "only with");
 }
 
 TEST(ControlFile, ScheduleSegments) {
