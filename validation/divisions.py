@@ -11,13 +11,12 @@ Every figure comes from the run's run.log: the "end" line (t, wall, D, L, volume
 first health warning and the failure, if any.
 """
 import argparse
-import json
 import os
 import re
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from table import ROOT, default_division, end_line, fmt_wall, run_capflow  # noqa: E402
+from table import ROOT, default_division, end_line, ensure_study_run, fmt_wall  # noqa: E402
 
 OUT = os.path.join(ROOT, "runs", "validation", "divisions")
 
@@ -54,15 +53,7 @@ def control(name, ca, ne, nb, division, dt, t_end):
 
 
 def ensure_run(exe, name, cfg, reuse):
-    rdir = os.path.join(OUT, name)
-    if reuse and end_line(rdir) is not None:
-        return rdir
-    os.makedirs(OUT, exist_ok=True)
-    path = rdir + ".json"
-    with open(path, "w") as f:
-        json.dump(cfg, f, indent=1)
-    run_capflow(exe, path, rdir, "validation/divisions.py")
-    return rdir
+    return ensure_study_run(exe, OUT, name, cfg, reuse, "validation/divisions.py")
 
 
 def health(rdir):

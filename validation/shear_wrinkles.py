@@ -21,8 +21,8 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from slow_mode_fit import fit  # noqa: E402
-from table import ROOT, end_line, fmt_wall, run_capflow, series  # noqa: E402
+from slow_mode_fit import TAUS, fit  # noqa: E402
+from table import ROOT, end_line, ensure_study_run, fmt_wall, series  # noqa: E402
 
 OUT = os.path.join(ROOT, "runs", "validation", "shear_wrinkles")
 
@@ -52,15 +52,7 @@ def control(name, ca, nb, dt, t_end):
 
 
 def ensure_run(exe, name, cfg, reuse):
-    rdir = os.path.join(OUT, name)
-    if reuse and end_line(rdir) is not None:
-        return rdir
-    os.makedirs(OUT, exist_ok=True)
-    path = rdir + ".json"
-    with open(path, "w") as f:
-        json.dump(cfg, f, indent=1)
-    run_capflow(exe, path, rdir, "validation/shear_wrinkles.py")
-    return rdir
+    return ensure_study_run(exe, OUT, name, cfg, reuse, "validation/shear_wrinkles.py")
 
 
 def first_oscillation(rdir):
@@ -79,11 +71,10 @@ def analyse(rdir, t_end):
     t1 = t_w if t_w is not None else rows[-1]["t"]
     win = [r for r in rows if 0.4 * t1 <= r["t"] <= t1]
     t = [r["t"] for r in win]
-    taus = [0.01 * k for k in range(1, 100)] + [1 + 0.1 * k for k in range(0, 200)]
     out = {"t_w": t_w, "t1": t1, "t0": t[0]}
     for col in ("D", "inclination_deg"):
         y = [r[col] for r in win]
-        _, tau, c0, c1 = fit(t, y, taus)
+        _, tau, c0, c1 = fit(t, y, TAUS)
         out[col] = (c0, tau, y[-1])
     late = [r for r in rows if r["t"] >= rows[-1]["t"] - 1.0]
     out["late_D"] = sum(r["D"] for r in late) / len(late)

@@ -15,6 +15,9 @@ import math
 import os
 import sys
 
+# The relaxation times tried: 0.01 steps up to 1, then 0.1 steps up to 200.9.
+TAUS = [0.01 * k for k in range(1, 100)] + [1 + 0.1 * k for k in range(0, 2000)]
+
 
 def fit(t, y, taus):
     n, te = len(y), t[-1]
@@ -43,16 +46,15 @@ def main():
     if len(rows) < 5:
         sys.exit("slow_mode_fit.py: fewer than 5 rows with %g <= t <= %g in %s" % (t0, t1, rdir))
     t = [float(r["t"]) for r in rows]
-    taus = [0.01 * k for k in range(1, 100)] + [1 + 0.1 * k for k in range(0, 2000)]
     print("fit over t = %.3f .. %.3f (%d rows)" % (t[0], t[-1], len(t)))
     for col in cols:
         if col not in rows[0]:
             sys.exit("slow_mode_fit.py: no column %r in timeseries.csv" % col)
         y = [float(r[col]) for r in rows]
-        r, tau, c0, c1 = fit(t, y, taus)
+        r, tau, c0, c1 = fit(t, y, TAUS)
         rate = -c1 / tau
         t_quiet = t[-1] + (tau * math.log(abs(rate) / 1e-4) if abs(rate) > 1e-4 else 0.0)
-        edge = " (tau at the end of the grid)" if tau >= taus[-1] - 1e-9 or tau <= taus[0] + 1e-9 else ""
+        edge = " (tau at the end of the grid)" if tau >= TAUS[-1] - 1e-9 or tau <= TAUS[0] + 1e-9 else ""
         print("%-15s asymptote %.5f  tau %6.1f%s  last %.5f  rate %+.2e per unit time  rms %.0e  "
               "|rate| < 1e-4 from t ~ %.0f" % (col, c0, tau, edge, y[-1], rate, math.sqrt(r / len(y)), t_quiet))
 

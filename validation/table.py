@@ -142,6 +142,19 @@ def run_capflow(exe, path, rdir, caller):
         subprocess.run(cmd, stdout=log, stderr=subprocess.STDOUT, check=False)
 
 
+def ensure_study_run(exe, out, name, cfg, reuse, caller):
+    """Writes CFG to OUT/NAME.json and runs it into OUT/NAME (unless REUSE and it finished)."""
+    rdir = os.path.join(out, name)
+    if reuse and end_line(rdir) is not None:
+        return rdir
+    os.makedirs(out, exist_ok=True)
+    path = rdir + ".json"
+    with open(path, "w") as f:
+        json.dump(cfg, f, indent=1)
+    run_capflow(exe, path, rdir, caller)
+    return rdir
+
+
 def steady_row(rdir):
     path = os.path.join(rdir, "steady.csv")
     if not os.path.exists(path):

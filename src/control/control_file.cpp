@@ -213,11 +213,10 @@ class Reader {
   std::vector<std::string> known_;
 };
 
-// "hold": "steady" or a duration.
 // flow.gradient: 3 rows of 3 finite numbers, |G_ij| <= 100, not all zero, trace within 1e-9 of
 // the largest entry (then removed from the diagonal: Flow::custom needs it exact).
-template <class Error>
-bool read_gradient(const json& v, capsule::Flow* flow, Error error) {
+bool read_gradient(const json& v, Reader& r, capsule::Flow* flow) {
+  auto error = [&r](const std::string& m) { r.error("gradient", m); };
   Eigen::Matrix3d g;
   const bool shape = v.is_array() && v.size() == 3 &&
                      std::all_of(v.begin(), v.end(), [](const json& row) {
@@ -254,6 +253,7 @@ bool read_gradient(const json& v, capsule::Flow* flow, Error error) {
   return true;
 }
 
+// "hold": "steady" or a duration.
 void read_hold(Reader& r, CaSegment* s) {
   const json* v = r.get("hold");
   if (!v) return;
@@ -458,7 +458,7 @@ ParsedControl parse_control(const std::string& text, const std::string& source) 
                           "have their own gradients)");
     if (g && t == 2) {
       capsule::Flow f;
-      if (read_gradient(*g, &f, [&](const std::string& m) { r.error("gradient", m); })) o.flow = f;
+      if (read_gradient(*g, r, &f)) o.flow = f;
     }
     r.finish();
   }
