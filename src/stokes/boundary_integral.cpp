@@ -144,17 +144,19 @@ inline void basis(const geometry::Mesh& mesh, double t, double* l, double* dl) {
 
 // Bases of a line rule: Lc, dLc at the line coordinates and, if `points`, LoT, dLoT at the
 // points (spectral::lagrange_bases, product weights c). The matrices are resized only when they
-// are too small (scratch reuse). Without `points` the single layer evaluates the point bases
-// line by line while it sums (line_sum: they stay in L1 instead of a rule-sized array).
+// are too small or of another nb (scratch reused across calls and operators). Without `points`
+// the single layer evaluates the point bases line by line while it sums (line_sum: they stay
+// in L1 instead of a rule-sized array).
 void fill_bases(const geometry::Mesh& mesh, const VectorXd& c, LineRule& R, bool points = true) {
   const int nb = mesh.nb(), nl = R.nl(), np = R.np();
-  if (R.Lc.cols() < nl) {
+  if (R.Lc.rows() != nb || R.Lc.cols() < nl) {
     R.Lc.resize(nb, nl);
     R.dLc.resize(nb, nl);
   }
   for (int l = 0; l < nl; ++l) basis(mesh, R.c[l], R.Lc.col(l).data(), R.dLc.col(l).data());
   if (!points) return;
-  if (R.LoT.rows() < np + 4) {  // leading dimension = rows >= np + 4 (blocks of 4 points)
+  // leading dimension = rows >= np + 4 (blocks of 4 points)
+  if (R.LoT.rows() < np + 4 || R.LoT.cols() != nb) {
     R.LoT.resize(np + 4, nb);
     R.dLoT.resize(np + 4, nb);
     R.LoT.bottomRows(4).setZero();
@@ -685,6 +687,12 @@ BoundaryOperators::BoundaryOperators(const geometry::Mesh& mesh, QuadratureOptio
   const int nb = mesh.nb();
   if (nb > kMaxNb) throw std::invalid_argument("BoundaryOperators: nb too large");
   const VectorXd& xi = mesh.nodes();
+  for (int tier = 0; tier < 2; ++tier) {
+    const spectral::Rule gq = spectral::gauss_legendre(tier == 0 ? opt_.nq_far : opt_.nq_mid);
+    far_basis_[tier].w.assign(gq.w.data(), gq.w.data() + gq.w.size());
+    far_basis_[tier].I = spectral::interpolation_matrix(xi, gq.x);
+    far_basis_[tier].Id = spectral::derivative_matrix(xi, gq.x);
+  }
   canon_rule_.assign(nb * nb, -1);
   canon_sym_.assign(nb * nb, 0);
   canon_perm_.assign(8, std::vector<int>(nb * nb));
@@ -847,56 +855,51 @@ long BoundaryOperators::own_rule_points() const {
 }
 
 namespace {
-// Far-field data of every element at nq x nq Gauss-Legendre points, one row each:
-// 0-2 x, 3-5 density, 6-8 w (x_xi x x_eta), 9 w J. esize (optional): element size, the mean
-// length of its longer family of coordinate lines.
+// Far-field data of element e at the nq x nq Gauss-Legendre points (weights gw; I, Id: the
+// nq x nb interpolation and derivative matrices from the nodes) into columns
+// [e nq^2, (e + 1) nq^2) of F.d, rows 0-2 x, 3-5 density, 6-8 w (x_xi x x_eta), 9 w J.
+// esize (optional): the element's size, the mean length of its longer family of coordinate
+// lines.
 template <BoundaryOperators::Mode M>
-void far_data(const geometry::Mesh& mesh, const Matrix3Xd& x, const Matrix3Xd* dens, int nq,
-              FarData& F, std::vector<double>* esize) {
-  const int nb = mesh.nb(), nb2 = nb * nb, ne = mesh.ne();
-  const spectral::Rule gq = spectral::gauss_legendre(nq);
-  const MatrixXd I = spectral::interpolation_matrix(mesh.nodes(), gq.x);
-  const MatrixXd Id = spectral::derivative_matrix(mesh.nodes(), gq.x);
-  const int nqe = nq * nq;
-  F.nq = nq;
-  F.d.resize(10, ne * nqe);
+void far_data(const geometry::Mesh& mesh, const Matrix3Xd& x, const Matrix3Xd* dens,
+              const std::vector<double>& gw, const MatrixXd& I, const MatrixXd& Id, int e,
+              FarData& F, double* esize) {
+  const int nb = mesh.nb(), nb2 = nb * nb, nq = static_cast<int>(gw.size()), nqe = nq * nq;
   MatrixXd X(nb, nb);
   MatrixXd xq[3], xsq[3], xtq[3], dq[3];
-  for (int e = 0; e < ne; ++e) {
-    for (int k = 0; k < 3; ++k) {
+  for (int k = 0; k < 3; ++k) {
+    for (int j = 0; j < nb; ++j)
+      for (int i = 0; i < nb; ++i) X(i, j) = x(k, e * nb2 + j * nb + i);
+    const MatrixXd XI = X * I.transpose();
+    xq[k].noalias() = I * XI;
+    xsq[k].noalias() = Id * XI;
+    xtq[k].noalias() = I * X * Id.transpose();
+    if (uses_density(M)) {
       for (int j = 0; j < nb; ++j)
-        for (int i = 0; i < nb; ++i) X(i, j) = x(k, e * nb2 + j * nb + i);
-      const MatrixXd XI = X * I.transpose();
-      xq[k].noalias() = I * XI;
-      xsq[k].noalias() = Id * XI;
-      xtq[k].noalias() = I * X * Id.transpose();
-      if (uses_density(M)) {
-        for (int j = 0; j < nb; ++j)
-          for (int i = 0; i < nb; ++i) X(i, j) = (*dens)(k, e * nb2 + j * nb + i);
-        dq[k].noalias() = I * X * I.transpose();
-      }
+        for (int i = 0; i < nb; ++i) X(i, j) = (*dens)(k, e * nb2 + j * nb + i);
+      dq[k].noalias() = I * X * I.transpose();
     }
-    double ls = 0, lt = 0;
-    for (int b = 0; b < nq; ++b)
-      for (int a = 0; a < nq; ++a) {
-        const int q = e * nqe + b * nq + a;
-        const Vector3d xs(xsq[0](a, b), xsq[1](a, b), xsq[2](a, b));
-        const Vector3d xt(xtq[0](a, b), xtq[1](a, b), xtq[2](a, b));
-        const Vector3d c = xs.cross(xt);
-        const double w = gq.w[a] * gq.w[b];
-        const double wj = w * c.norm();
-        ls += w * xs.norm();
-        lt += w * xt.norm();
-        for (int k = 0; k < 3; ++k) {
-          F.d(k, q) = xq[k](a, b);
-          F.d(6 + k, q) = w * c[k];
-          F.d(3 + k, q) = uses_density(M) ? dq[k](a, b) : 0.0;
-        }
-        F.d(9, q) = wj;
-      }
-    // mean length of the longer family of coordinate lines (= 2 * mean |x_xi| or |x_eta|)
-    if (esize) (*esize)[e] = 0.5 * std::max(ls, lt);
   }
+  double ls = 0, lt = 0;
+  for (int b = 0; b < nq; ++b)
+    for (int a = 0; a < nq; ++a) {
+      const int q = e * nqe + b * nq + a;
+      const Vector3d xs(xsq[0](a, b), xsq[1](a, b), xsq[2](a, b));
+      const Vector3d xt(xtq[0](a, b), xtq[1](a, b), xtq[2](a, b));
+      const Vector3d c = xs.cross(xt);
+      const double w = gw[a] * gw[b];
+      const double wj = w * c.norm();
+      ls += w * xs.norm();
+      lt += w * xt.norm();
+      for (int k = 0; k < 3; ++k) {
+        F.d(k, q) = xq[k](a, b);
+        F.d(6 + k, q) = w * c[k];
+        F.d(3 + k, q) = uses_density(M) ? dq[k](a, b) : 0.0;
+      }
+      F.d(9, q) = wj;
+    }
+  // mean length of the longer family of coordinate lines (= 2 * mean |x_xi| or |x_eta|)
+  if (esize) *esize = 0.5 * std::max(ls, lt);
 }
 
 // Single-layer kernel sum over far points [q0, q1) (rows of F.d); cloned like single_line.
@@ -994,9 +997,23 @@ void BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens,
   const Matrix3Xd* sdens = jf ? &g : dens;
   std::vector<Vector3d> centre(ne);
   std::vector<double> radius(ne), esize(ne);
-  FarData far[2];
-  far_data<M>(mesh, x, dens, opt_.nq_far, far[0], &esize);
-  far_data<M>(mesh, x, dens, opt_.nq_mid, far[1], nullptr);
+  // The buffers of a call stay with the calling thread (thread_local, reused by the next call
+  // of this mode): allocated per call, the far data (0.3 + 0.5 MB at NB=10) and the line
+  // buffers below made glibc grow and trim its heap on every call, ~200 page faults a call
+  // (docs/performance.md, "Heap churn").
+  thread_local FarData far_tls[2];
+  FarData* const far = far_tls;  // the calling thread's buffers, shared with the team below
+  for (int tier = 0; tier < 2; ++tier) {
+    far[tier].nq = static_cast<int>(far_basis_[tier].w.size());
+    far[tier].d.resize(10, ne * far[tier].nq * far[tier].nq);
+  }
+  // one task per (tier, element): the far data is ~5 % of a call, serial it left a core idle
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int task = 0; task < 2 * ne; ++task) {
+    const int tier = task / ne, e = task % ne;
+    const FarBasis& fb = far_basis_[tier];
+    far_data<M>(mesh, x, dens, fb.w, fb.I, fb.Id, e, far[tier], tier == 0 ? &esize[e] : nullptr);
+  }
   for (int e = 0; e < ne; ++e) {
     Vector3d cen = x.middleCols(e * nb2, nb2).rowwise().mean();
     double rad = 0;
@@ -1020,7 +1037,7 @@ void BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens,
   long far_pairs = 0, own_pairs = 0, near_pairs = 0, near_elements = 0;
 #pragma omp parallel reduction(+ : far_pairs, own_pairs, near_pairs, near_elements)
   {
-    Scratch sc;
+    thread_local Scratch sc;  // per OpenMP thread, kept across calls (see far above)
     sc.D0.resize(nb, 6 * nb);
     sc.D1.resize(nb, 6 * nb);
     sc.A.resize(max_lines, 6 * nb);

@@ -185,6 +185,13 @@ class BoundaryOperators {
   std::vector<int> canon_sym_;     // (i + nb j) -> symmetry bits: 1 flip s, 2 flip t, 4 swap
   std::vector<std::vector<int>> canon_perm_;  // per symmetry (8): canonical (a + nb b) -> actual
   Eigen::VectorXd prod_w_;  // spectral::product_weights of the element nodes (rule bases)
+  // The far tiers' Gauss rules (0: nq_far, 1: nq_mid) and their interpolation / derivative
+  // matrices from the element nodes.
+  struct FarBasis {
+    std::vector<double> w;
+    MatrixXd I, Id;  // nq x nb
+  };
+  FarBasis far_basis_[2];
   mutable OperatorStats stats_;
 };
 

@@ -1,8 +1,11 @@
 // Unit tests of the Stokes boundary-integral operators: identities on the unit sphere.
 #include <gtest/gtest.h>
 
+#include <omp.h>
+
 #include <cmath>
 #include <cstdio>
+#include <thread>
 
 #include "geometry/mesh.h"
 #include "geometry/shapes.h"
@@ -217,4 +220,48 @@ TEST(StokesApi, ScaledOrdersMakeThePointPathAReference) {
   std::printf("on-surface point path vs node path at the nodes: x3 orders %.2e, defaults %.2e\n",
               err_ref, err_crude);
   EXPECT_LT(err_ref, 1e-7);
+}
+
+// The operators keep their per-call buffers per thread across calls (boundary_integral.cpp,
+// apply): a call must not see what an earlier call of another operator (other NE, NB, orders
+// and far tiers) left there, results must not depend on the number of OpenMP threads, and two
+// threads calling the same operator at once must each get the serial answer.
+TEST(StokesApi, BuffersKeptAcrossCallsChangeNothing) {
+  auto density = [](const Matrix3Xd& x) {
+    Matrix3Xd f(3, x.cols());
+    for (int m = 0; m < x.cols(); ++m)
+      f.col(m) = Vector3d(std::sin(x(0, m)), x(1, m) * x(2, m), std::exp(0.3 * x(0, m)));
+    return f;
+  };
+  geometry::Mesh ma(6, 8), mb(10, 6);
+  const stokes::BoundaryOperators a(ma), b(mb, stokes::scale_orders(
+                                                   stokes::resolve_defaults(mb, {}), {2, 1, 2}));
+  const Matrix3Xd xa = geometry::map_points(ma.reference(), geometry::ellipsoid_map(1.5, 0.8, 1.0));
+  const Matrix3Xd xb = geometry::map_points(mb.reference(), geometry::ellipsoid_map(0.9, 1.2, 0.7));
+  const Matrix3Xd fa = density(xa), fb = density(xb);
+  const Matrix3Xd first = a.single_layer(xa, fa);
+  const Matrix3Xd db = b.double_layer(xb, fb);  // other sizes through the same buffers
+  const Matrix3Xd sb = b.single_layer(xb, fb);
+  EXPECT_EQ((a.single_layer(xa, fa) - first).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ((a.double_layer(xa, fa) - a.double_layer(xa, fa)).cwiseAbs().maxCoeff(), 0.0);
+
+  const int threads = omp_get_max_threads();
+  omp_set_num_threads(1);
+  const Matrix3Xd one = a.single_layer(xa, fa);
+  const Matrix3Xd one_b = b.single_layer(xb, fb);
+  omp_set_num_threads(2);
+  const Matrix3Xd two = a.single_layer(xa, fa);
+  omp_set_num_threads(threads);
+  EXPECT_EQ((one - first).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ((two - first).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ((one_b - sb).cwiseAbs().maxCoeff(), 0.0);
+
+  Matrix3Xd ta, tb;
+  std::thread t1([&] { ta = a.single_layer(xa, fa); });
+  std::thread t2([&] { tb = b.single_layer(xb, fb); });
+  t1.join();
+  t2.join();
+  EXPECT_EQ((ta - first).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ((tb - sb).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_GT(db.cwiseAbs().maxCoeff(), 0.0);
 }
