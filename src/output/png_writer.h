@@ -1,5 +1,6 @@
 // capflow/output/png_writer: PNG files via stb_image_write (Debian's libstb). No GL, no
-// numerics. Pixels are 8-bit RGBA, rows top-down, `stride` bytes apart (0: width*4).
+// numerics. Pixels are 8-bit RGBA, rows top-down, `stride` bytes apart (0: width*4); an image
+// whose alpha is 255 everywhere is stored as RGB (the same pixels, a smaller, faster file).
 // Failure: std::runtime_error naming the path.
 #pragma once
 
