@@ -352,8 +352,7 @@ void load_element(int nb, int K, const Matrix3Xd& x, const Matrix3Xd* dens, int 
 // at load time.
 typedef double v4d __attribute__((vector_size(32)));
 
-__attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
-void single_line(
+__attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default"))) void single_line(
     int nb, int m, const double* A, const double* B, const double* L, const double* dL, long ld,
     const double* w, double sg, const double* x0, double* buf, double* out) {
   // Blocks of 4 points with the 12 interpolated values in registers (GCC vector extension);
@@ -414,10 +413,9 @@ void single_line(
 
 // Stage 1 for nl lines: A(l, :) = sum_i Lc(i, l) D(i, 0:Kn), B(l, :) = sum_i dLc(i, l)
 // D(i, 0:n3) (row-major D, A, B; Lc, dLc column l at + l nb). Cloned like single_line.
-__attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
-void stage1(
-    int nb, int nl, int Kn, int n3, const double* Lc, const double* dLc, const double* D,
-    long ldD, double* A, long ldA, double* B, long ldB) {
+__attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default"))) void stage1(
+    int nb, int nl, int Kn, int n3, const double* Lc, const double* dLc, const double* D, long ldD,
+    double* A, long ldA, double* B, long ldB) {
   for (int l = 0; l < nl; ++l) {
     double* __restrict a = A + l * ldA;
     double* __restrict b = B + l * ldB;
@@ -906,8 +904,7 @@ void far_data(const geometry::Mesh& mesh, const Matrix3Xd& x, const Matrix3Xd* d
 }
 
 // Single-layer kernel sum over far points [q0, q1) (rows of F.d); cloned like single_line.
-__attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
-void far_single(
+__attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default"))) void far_single(
     const double* px, const double* py, const double* pz, const double* fx, const double* fy,
     const double* fz, const double* wj, int q0, int q1, const double* x0, double* acc) {
   const double X0 = x0[0], X1 = x0[1], X2 = x0[2];

@@ -234,8 +234,8 @@ TEST(StokesApi, BuffersKeptAcrossCallsChangeNothing) {
     return f;
   };
   geometry::Mesh ma(6, 8), mb(10, 6);
-  const stokes::BoundaryOperators a(ma), b(mb, stokes::scale_orders(
-                                                   stokes::resolve_defaults(mb, {}), {2, 1, 2}));
+  const stokes::BoundaryOperators a(ma),
+      b(mb, stokes::scale_orders(stokes::resolve_defaults(mb, {}), {2, 1, 2}));
   const Matrix3Xd xa = geometry::map_points(ma.reference(), geometry::ellipsoid_map(1.5, 0.8, 1.0));
   const Matrix3Xd xb = geometry::map_points(mb.reference(), geometry::ellipsoid_map(0.9, 1.2, 0.7));
   const Matrix3Xd fa = density(xa), fb = density(xb);
