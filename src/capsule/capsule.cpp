@@ -13,13 +13,9 @@ constexpr double kPi = 3.14159265358979323846;
 
 SymmetryKind symmetry_for(const Flow& flow, SymmetryChoice choice) {
   if (choice == SymmetryChoice::None) return SymmetryKind::None;
-  switch (flow.type) {
-    case FlowType::PlanarExtension: return SymmetryKind::Octant;
-    case FlowType::SimpleShear: return SymmetryKind::Shear;
-    default: break;
-  }
-  // Any gradient: R G = G R for the mirrors R = diag(+-1, +-1, +-1) iff G is diagonal; for
-  // the y mirror and the half turn about y iff y decouples (G_xy = G_yx = G_zy = G_yz = 0).
+  // From the gradient, for every flow: R G = G R for the mirrors R = diag(+-1, +-1, +-1) iff G
+  // is diagonal (planar extension: the octant); for the y mirror and the half turn about y iff
+  // y decouples, G_xy = G_yx = G_zy = G_yz = 0 (simple shear: the pair).
   const Eigen::Matrix3d& g = flow.gradient;
   const bool y_decoupled = g(0, 1) == 0 && g(1, 0) == 0 && g(2, 1) == 0 && g(1, 2) == 0;
   if (y_decoupled && g(0, 2) == 0 && g(2, 0) == 0) return SymmetryKind::Octant;

@@ -690,10 +690,13 @@ BoundaryOperators::BoundaryOperators(const geometry::Mesh& mesh, QuadratureOptio
   const VectorXd& xi = mesh.nodes();
   for (int tier = 0; tier < 2; ++tier) {
     const spectral::Rule gq = spectral::gauss_legendre(tier == 0 ? opt_.nq_far : opt_.nq_mid);
-    far_basis_[tier].w.assign(gq.w.data(), gq.w.data() + gq.w.size());
+    far_basis_[tier].w = gq.w;
     far_basis_[tier].I = spectral::interpolation_matrix(xi, gq.x);
     far_basis_[tier].Id = spectral::derivative_matrix(xi, gq.x);
   }
+  near_edge_ = spectral::gauss_legendre(opt_.n_edge_near);
+  near_radial_ = spectral::gauss_legendre(opt_.n_radial_near);
+  near_radial_out_ = spectral::gauss_legendre(opt_.n_radial_near_out);
   canon_rule_.assign(nb * nb, -1);
   canon_sym_.assign(nb * nb, 0);
   canon_perm_.assign(8, std::vector<int>(nb * nb));
@@ -847,6 +850,14 @@ BoundaryOperators::BoundaryOperators(const geometry::Mesh& mesh, QuadratureOptio
     std::lock_guard<std::mutex> lock(cache_mutex);
     cache.emplace(cache_key, chosen);
   }
+  // near rule: 4 edges x n_radial_near x panels (asinh(1/hu) <= asinh(1e14) < 6 * 6) lines
+  max_near_lines_ = 4 * (opt_.n_radial_near * 6 + opt_.n_radial_near_out * opt_.near_out_panels);
+  max_lines_ = max_near_lines_;
+  max_line_ = 2 * opt_.n_edge_near;
+  for (const Rule& r : rules_) {
+    max_lines_ = std::max(max_lines_, r.nl());
+    for (int l = 0; l < r.nl(); ++l) max_line_ = std::max(max_line_, r.start[l + 1] - r.start[l]);
+  }
 }
 
 long BoundaryOperators::own_rule_points() const {
@@ -863,7 +874,7 @@ namespace {
 // lines.
 template <BoundaryOperators::Mode M>
 void far_data(const geometry::Mesh& mesh, const Matrix3Xd& x, const Matrix3Xd* dens,
-              const std::vector<double>& gw, const MatrixXd& I, const MatrixXd& Id, int e,
+              const VectorXd& gw, const MatrixXd& I, const MatrixXd& Id, int e,
               FarData& F, double* esize) {
   const int nb = mesh.nb(), nb2 = nb * nb, nq = static_cast<int>(gw.size()), nqe = nq * nq;
   MatrixXd X(nb, nb);
@@ -1023,17 +1034,7 @@ void BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens,
     radius[e] = rad;
   }
 
-  const spectral::Rule gen = spectral::gauss_legendre(opt_.n_edge_near);
-  const spectral::Rule grn = spectral::gauss_legendre(opt_.n_radial_near);
-  const spectral::Rule grn_out = spectral::gauss_legendre(opt_.n_radial_near_out);
-  // near rule: 4 edges x n_radial_near x panels (asinh(1/hu) <= asinh(1e14) < 6 * 6) lines
-  const int max_near_lines =
-      4 * (opt_.n_radial_near * 6 + opt_.n_radial_near_out * opt_.near_out_panels);
-  int max_lines = max_near_lines, max_line = 2 * opt_.n_edge_near;
-  for (const Rule& r : rules_) {
-    max_lines = std::max(max_lines, r.nl());
-    for (int l = 0; l < r.nl(); ++l) max_line = std::max(max_line, r.start[l + 1] - r.start[l]);
-  }
+  const int max_near_lines = max_near_lines_, max_lines = max_lines_, max_line = max_line_;
 
   long far_pairs = 0, own_pairs = 0, near_pairs = 0, near_elements = 0;
 #pragma omp parallel reduction(+ : far_pairs, own_pairs, near_pairs, near_elements)
@@ -1104,8 +1105,9 @@ void BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens,
             hu[ei] = h / jv;
             if (hu[ei] < 1e-13) hu[ei] = 0.0;
           }
-          const RadialOpt ro{&grn, &grn_out, opt_.near_split, opt_.near_out_panels};
-          polar_rule(s, t, hu, gen, grn, sc.near, ro);
+          const RadialOpt ro{&near_radial_, &near_radial_out_, opt_.near_split,
+                             opt_.near_out_panels};
+          polar_rule(s, t, hu, near_edge_, near_radial_, sc.near, ro);
           // the single layer evaluates the near rule's point bases line by line
           const bool per_line = M == Mode::Single && !jf;
           fill_bases(mesh, prod_w_, sc.near, !per_line);

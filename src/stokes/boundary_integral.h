@@ -57,6 +57,7 @@
 #include <vector>
 
 #include "geometry/mesh.h"
+#include "spectral/spectral.h"
 
 namespace capflow::stokes {
 
@@ -188,10 +189,14 @@ class BoundaryOperators {
   // The far tiers' Gauss rules (0: nq_far, 1: nq_mid) and their interpolation / derivative
   // matrices from the element nodes.
   struct FarBasis {
-    std::vector<double> w;
+    Eigen::VectorXd w;
     MatrixXd I, Id;  // nq x nb
   };
   FarBasis far_basis_[2];
+  // The near rules' Gauss rules (along the edge, radial inner and outer part) and the scratch
+  // sizes: lines of a near rule, lines of any rule, points of any line.
+  spectral::Rule near_edge_, near_radial_, near_radial_out_;
+  int max_near_lines_ = 0, max_lines_ = 0, max_line_ = 0;
   mutable OperatorStats stats_;
 };
 
