@@ -85,7 +85,7 @@ void polar_rule(double s0, double t0, const double* hu, const spectral::Rule& ge
   R.n0 = -1;
   struct Edge {
     double fs, ft, d;
-    int axis;  // 0: edge runs along s, 1: along t
+    int axis;       // 0: edge runs along s, 1: along t
     double lo, hi;  // lengths from the foot towards -, + along the edge
   };
   const Edge edges[4] = {
@@ -124,15 +124,15 @@ void polar_rule(double s0, double t0, const double* hu, const spectral::Rule& ge
       cnt[k] = nge;
     }
     for (const auto& uw : rad) {
-        const double u = uw.first, wu = uw.second;
-        R.c.push_back(p_across + u * (f_across - p_across));
-        R.start.push_back(static_cast<int>(R.o.size()));
-        for (int k = 0; k < 2; ++k)
-          for (int a = 0; a < cnt[k]; ++a) {
-            R.o.push_back(p_along + u * off[k][a]);
-            R.w.push_back(wedge[k][a] * u * wu);
-          }
-      }
+      const double u = uw.first, wu = uw.second;
+      R.c.push_back(p_across + u * (f_across - p_across));
+      R.start.push_back(static_cast<int>(R.o.size()));
+      for (int k = 0; k < 2; ++k)
+        for (int a = 0; a < cnt[k]; ++a) {
+          R.o.push_back(p_along + u * off[k][a]);
+          R.w.push_back(wedge[k][a] * u * wu);
+        }
+    }
   }
   R.start.push_back(static_cast<int>(R.o.size()));
 }
@@ -285,8 +285,8 @@ template <BoundaryOperators::Mode M>
 
 // Adds the sums of kernel_point to the accumulator (9 entries for DoubleNormal, else 3).
 template <BoundaryOperators::Mode M>
-inline void add_sums(double* acc, double s0, double s1, double s2, double s3, double s4,
-                     double s5, double s6, double s7, double s8) {
+inline void add_sums(double* acc, double s0, double s1, double s2, double s3, double s4, double s5,
+                     double s6, double s7, double s8) {
   acc[0] += s0;
   acc[1] += s1;
   acc[2] += s2;
@@ -313,8 +313,8 @@ constexpr bool uses_density(BoundaryOperators::Mode m) {
 
 struct Scratch {
   RowMat D0, D1;  // element data, nb x (K nb): D0(i, k nb + j) = D1(j, k nb + i) = X_k(i, j)
-  RowMat A, B;      // stage 1: values / derivative across, per line
-  std::vector<double> v;  // stage 2 per line: 12 arrays of the line's length
+  RowMat A, B;    // stage 1: values / derivative across, per line
+  std::vector<double> v;   // stage 2 per line: 12 arrays of the line's length
   std::vector<double> lb;  // per-line point bases of a rule without stored ones (2 ld nb)
   LineRule near;
 };
@@ -411,31 +411,110 @@ __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default"))) vo
   out[2] += (s2[0] + s2[1]) + (s2[2] + s2[3]);
 }
 
+// Columns of the stage-1 operands, rounded up to whole blocks of 8 (two v4d): stage1 reads and
+// writes whole blocks, so D, A and B carry up to 7 padding columns (their values are unused).
+constexpr int pad8(int n) {
+  return (n + 7) & ~7;
+}
+
+// Sizes a scratch's line buffers A, B (size_lines) and element data D0, D1 (size_scratch, padding
+// zeroed) for nb nodes per direction and rules of up to `lines` lines, with padded columns (pad8).
+// Buffers that are big enough are kept (size_scratch keeps loaded element data of the same nb).
+void size_lines(Scratch& sc, int nb, int lines) {
+  const int kp = pad8(6 * nb), k3 = pad8(3 * nb);
+  if (sc.A.rows() < lines || sc.A.cols() != kp || sc.B.cols() != k3) {
+    sc.A.resize(std::max<Eigen::Index>(lines, sc.A.rows()), kp);
+    sc.B.resize(sc.A.rows(), k3);
+  }
+}
+void size_scratch(Scratch& sc, int nb, int lines) {
+  const int kp = pad8(6 * nb);
+  if (sc.D0.rows() != nb || sc.D0.cols() != kp) {
+    sc.D0.setZero(nb, kp);
+    sc.D1.setZero(nb, kp);
+  }
+  size_lines(sc, nb, lines);
+}
+
 // Stage 1 for nl lines: A(l, :) = sum_i Lc(i, l) D(i, 0:Kn), B(l, :) = sum_i dLc(i, l)
-// D(i, 0:n3) (row-major D, A, B; Lc, dLc column l at + l nb). Cloned like single_line.
+// D(i, 0:n3) (row-major D, A, B; Lc, dLc column l at + l nb). Register blocks of two lines x 8
+// columns (the rows of D are read once per pair of lines and the sums stay in registers); D, A
+// and B must hold pad8(Kn) / pad8(n3) columns. The sums run over i in order, as a plain loop
+// would. Cloned like single_line.
 __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default"))) void stage1(
     int nb, int nl, int Kn, int n3, const double* Lc, const double* dLc, const double* D, long ldD,
     double* A, long ldA, double* B, long ldB) {
-  for (int l = 0; l < nl; ++l) {
-    double* __restrict a = A + l * ldA;
-    double* __restrict b = B + l * ldB;
-    const double* c = Lc + static_cast<long>(l) * nb;
-    const double* dc = dLc + static_cast<long>(l) * nb;
-    {
-      const double* __restrict d = D;
-      const double c0 = c[0], dc0 = dc[0];
-#pragma omp simd
-      for (int k = 0; k < Kn; ++k) a[k] = c0 * d[k];
-#pragma omp simd
-      for (int k = 0; k < n3; ++k) b[k] = dc0 * d[k];
+  const int kp = pad8(Kn), k3 = pad8(n3);
+  int l = 0;
+  for (; l + 1 < nl; l += 2) {
+    const double* c0 = Lc + static_cast<long>(l) * nb;
+    const double* c1 = c0 + nb;
+    const double* e0 = dLc + static_cast<long>(l) * nb;
+    const double* e1 = e0 + nb;
+    double* a0 = A + l * ldA;
+    double* a1 = a0 + ldA;
+    double* b0 = B + l * ldB;
+    double* b1 = b0 + ldB;
+    for (int k = 0; k < kp; k += 8) {
+      v4d p00 = {0, 0, 0, 0}, p01 = p00, p10 = p00, p11 = p00;
+      if (k < k3) {
+        v4d q00 = p00, q01 = p00, q10 = p00, q11 = p00;
+        for (int i = 0; i < nb; ++i) {
+          v4d d0, d1;
+          std::memcpy(&d0, D + i * ldD + k, sizeof d0);
+          std::memcpy(&d1, D + i * ldD + k + 4, sizeof d1);
+          p00 += c0[i] * d0;
+          p01 += c0[i] * d1;
+          p10 += c1[i] * d0;
+          p11 += c1[i] * d1;
+          q00 += e0[i] * d0;
+          q01 += e0[i] * d1;
+          q10 += e1[i] * d0;
+          q11 += e1[i] * d1;
+        }
+        std::memcpy(b0 + k, &q00, sizeof q00);
+        std::memcpy(b0 + k + 4, &q01, sizeof q01);
+        std::memcpy(b1 + k, &q10, sizeof q10);
+        std::memcpy(b1 + k + 4, &q11, sizeof q11);
+      } else {
+        for (int i = 0; i < nb; ++i) {
+          v4d d0, d1;
+          std::memcpy(&d0, D + i * ldD + k, sizeof d0);
+          std::memcpy(&d1, D + i * ldD + k + 4, sizeof d1);
+          p00 += c0[i] * d0;
+          p01 += c0[i] * d1;
+          p10 += c1[i] * d0;
+          p11 += c1[i] * d1;
+        }
+      }
+      std::memcpy(a0 + k, &p00, sizeof p00);
+      std::memcpy(a0 + k + 4, &p01, sizeof p01);
+      std::memcpy(a1 + k, &p10, sizeof p10);
+      std::memcpy(a1 + k + 4, &p11, sizeof p11);
     }
-    for (int i = 1; i < nb; ++i) {
-      const double* __restrict d = D + i * ldD;
-      const double ci = c[i], dci = dc[i];
-#pragma omp simd
-      for (int k = 0; k < Kn; ++k) a[k] += ci * d[k];
-#pragma omp simd
-      for (int k = 0; k < n3; ++k) b[k] += dci * d[k];
+  }
+  if (l < nl) {  // the last line of an odd count
+    const double* c0 = Lc + static_cast<long>(l) * nb;
+    const double* e0 = dLc + static_cast<long>(l) * nb;
+    double* a0 = A + l * ldA;
+    double* b0 = B + l * ldB;
+    for (int k = 0; k < kp; k += 8) {
+      v4d p0 = {0, 0, 0, 0}, p1 = p0, q0 = p0, q1 = p0;
+      for (int i = 0; i < nb; ++i) {
+        v4d d0, d1;
+        std::memcpy(&d0, D + i * ldD + k, sizeof d0);
+        std::memcpy(&d1, D + i * ldD + k + 4, sizeof d1);
+        p0 += c0[i] * d0;
+        p1 += c0[i] * d1;
+        q0 += e0[i] * d0;
+        q1 += e0[i] * d1;
+      }
+      std::memcpy(a0 + k, &p0, sizeof p0);
+      std::memcpy(a0 + k + 4, &p1, sizeof p1);
+      if (k < k3) {
+        std::memcpy(b0 + k, &q0, sizeof q0);
+        std::memcpy(b0 + k + 4, &q1, sizeof q1);
+      }
     }
   }
 }
@@ -445,28 +524,23 @@ __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default"))) vo
 // Stage 1: for every line, the 1-D interpolation across the lines (dense products
 // Lc^T D: lines x (K nb)); stage 2: per point, length-nb dot products along the line.
 template <BoundaryOperators::Mode M>
-void line_sum(int nb, int K, const LineRule& R, double sign, const Vector3d& x0,
-              const Vector3d& u0, Scratch& sc, double* acc, const PointBases& pb = {}) {
+void line_sum(int nb, int K, const LineRule& R, double sign, const Vector3d& x0, const Vector3d& u0,
+              Scratch& sc, double* acc, const PointBases& pb = {}) {
   using Mode = BoundaryOperators::Mode;
   const int nl = R.nl(), n0 = R.n0, n1 = nl - n0;
   const int Kn = K * nb, n3 = 3 * nb;
-  if (sc.A.rows() < nl) {
-    sc.A.resize(nl, 6 * nb);
-    sc.B.resize(nl, 3 * nb);
-  }
+  size_lines(sc, nb, nl);
   if constexpr (M == Mode::Single) {
     if (n0 > 0)
       stage1(nb, n0, Kn, n3, R.Lc.data(), R.dLc.data(), sc.D0.data(), sc.D0.cols(), sc.A.data(),
              sc.A.cols(), sc.B.data(), sc.B.cols());
     if (n1 > 0)
-      stage1(nb, n1, Kn, n3, R.Lc.col(n0).data(), R.dLc.col(n0).data(), sc.D1.data(),
-             sc.D1.cols(), sc.A.row(n0).data(), sc.A.cols(), sc.B.row(n0).data(), sc.B.cols());
+      stage1(nb, n1, Kn, n3, R.Lc.col(n0).data(), R.dLc.col(n0).data(), sc.D1.data(), sc.D1.cols(),
+             sc.A.row(n0).data(), sc.A.cols(), sc.B.row(n0).data(), sc.B.cols());
   } else {
     if (n0 > 0) {
-      sc.A.topLeftCorner(n0, Kn).noalias() =
-          R.Lc.leftCols(n0).transpose() * sc.D0.leftCols(Kn);
-      sc.B.topLeftCorner(n0, n3).noalias() =
-          R.dLc.leftCols(n0).transpose() * sc.D0.leftCols(n3);
+      sc.A.topLeftCorner(n0, Kn).noalias() = R.Lc.leftCols(n0).transpose() * sc.D0.leftCols(Kn);
+      sc.B.topLeftCorner(n0, n3).noalias() = R.dLc.leftCols(n0).transpose() * sc.D0.leftCols(n3);
     }
     if (n1 > 0) {
       sc.A.block(n0, 0, n1, Kn).noalias() =
@@ -495,8 +569,8 @@ void line_sum(int nb, int K, const LineRule& R, double sign, const Vector3d& x0,
         lo = L;
         dlo = dL;
       }
-      single_line(nb, m, sc.A.row(l).data(), sc.B.row(l).data(), lo, dlo, ldl,
-                  R.w.data() + p0, l < n0 ? sign : -sign, x0.data(), sc.v.data(), acc);
+      single_line(nb, m, sc.A.row(l).data(), sc.B.row(l).data(), lo, dlo, ldl, R.w.data() + p0,
+                  l < n0 ? sign : -sign, x0.data(), sc.v.data(), acc);
     }
   } else {
     for (int l = 0; l < nl; ++l) {
@@ -558,8 +632,8 @@ void line_sum(int nb, int K, const LineRule& R, double sign, const Vector3d& x0,
         const double ny = sg * (A2[p] * O0[p] - A0[p] * O2[p]);
         const double nz = sg * (A0[p] * O1[p] - A1[p] * O0[p]);
         kernel_point<M>(X0[p] - x0[0], X1[p] - x0[1], X2[p] - x0[2], w[p] * nx, w[p] * ny,
-                        w[p] * nz, F0[p] - u0[0], F1[p] - u0[1], F2[p] - u0[2], s0, s1, s2, s3,
-                        s4, s5, s6, s7, s8);
+                        w[p] * nz, F0[p] - u0[0], F1[p] - u0[1], F2[p] - u0[2], s0, s1, s2, s3, s4,
+                        s5, s6, s7, s8);
       }
       add_sums<M>(acc, s0, s1, s2, s3, s4, s5, s6, s7, s8);
     }
@@ -572,15 +646,11 @@ void line_sum_jf(int nb, const LineRule& R, double sign, const Vector3d& x0, Scr
                  double* acc) {
   const int nl = R.nl(), n0 = R.n0, n1 = nl - n0;
   const int Kn = 6 * nb;
-  if (sc.A.rows() < nl) {
-    sc.A.resize(nl, 6 * nb);
-    sc.B.resize(nl, 3 * nb);
-  }
+  size_lines(sc, nb, nl);
   if (n0 > 0)
     sc.A.topLeftCorner(n0, Kn).noalias() = R.Lc.leftCols(n0).transpose() * sc.D0.leftCols(Kn);
   if (n1 > 0)
-    sc.A.block(n0, 0, n1, Kn).noalias() =
-        R.Lc.middleCols(n0, n1).transpose() * sc.D1.leftCols(Kn);
+    sc.A.block(n0, 0, n1, Kn).noalias() = R.Lc.middleCols(n0, n1).transpose() * sc.D1.leftCols(Kn);
   const int ld = static_cast<int>(R.LoT.rows());
   const double X0 = x0[0], X1 = x0[1], X2 = x0[2];
   double s0 = 0, s1 = 0, s2 = 0;
@@ -674,8 +744,8 @@ QuadratureOptions resolve_defaults(const geometry::Mesh& mesh, QuadratureOptions
   if (opt.n_radial_near_out <= 0) opt.n_radial_near_out = std::max(4, nb - 2);
   if (opt.near_out_panels < 1 || opt.near_out_panels > 8)
     throw std::invalid_argument("BoundaryOperators: near_out_panels must be in 1..8");
-  if (opt.n_radial_inner > 0 && !(opt.own_split > 0.0 && opt.own_split < 1.0 &&
-                                   opt.own_grading > 0.0))
+  if (opt.n_radial_inner > 0 &&
+      !(opt.own_split > 0.0 && opt.own_split < 1.0 && opt.own_grading > 0.0))
     throw std::invalid_argument("BoundaryOperators: own_split must be in (0, 1), own_grading > 0");
   if (opt.n_edge > kMaxEdge || opt.n_edge_near > kMaxEdge)
     throw std::invalid_argument("BoundaryOperators: n_edge / n_edge_near > 256");
@@ -683,7 +753,8 @@ QuadratureOptions resolve_defaults(const geometry::Mesh& mesh, QuadratureOptions
 }
 
 BoundaryOperators::BoundaryOperators(const geometry::Mesh& mesh, QuadratureOptions options)
-    : mesh_(mesh), opt_(resolve_defaults(mesh, options)),
+    : mesh_(mesh),
+      opt_(resolve_defaults(mesh, options)),
       prod_w_(spectral::product_weights(mesh.nodes())) {
   const int nb = mesh.nb();
   if (nb > kMaxNb) throw std::invalid_argument("BoundaryOperators: nb too large");
@@ -743,26 +814,22 @@ BoundaryOperators::BoundaryOperators(const geometry::Mesh& mesh, QuadratureOptio
   if (opt_.own_tolerance > 0.0) {
     for (int g = 0; g < 2; ++g) {
       Probe pr;
-      pr.x = g == 0 ? mesh.reference()
-                    : geometry::map_points(mesh.reference(),
-                                           geometry::ellipsoid_map(1.8, 0.7, 1.0));
+      pr.x = g == 0
+                 ? mesh.reference()
+                 : geometry::map_points(mesh.reference(), geometry::ellipsoid_map(1.8, 0.7, 1.0));
       pr.f.resize(3, mesh.num_local());
       for (int m = 0; m < mesh.num_local(); ++m) {
         const Vector3d q = pr.x.col(m);
-        pr.f.col(m) = Vector3d(1.0 + 0.3 * q[0], 0.5 - 0.2 * q[1] + 0.1 * q[0] * q[2],
-                               std::cos(q[2]));
+        pr.f.col(m) =
+            Vector3d(1.0 + 0.3 * q[0], 0.5 - 0.2 * q[1] + 0.1 * q[0] * q[2], std::cos(q[2]));
       }
       probes.push_back(std::move(pr));
     }
-    sc.D0.resize(nb, 6 * nb);
-    sc.D1.resize(nb, 6 * nb);
+    size_scratch(sc, nb, 0);
   }
   auto own_values = [&](const Rule& r, int ic, int jc) {
     std::vector<double> v;
-    if (sc.A.rows() < r.nl()) {
-      sc.A.resize(r.nl(), 6 * nb);
-      sc.B.resize(r.nl(), 3 * nb);
-    }
+    size_lines(sc, nb, r.nl());
     int ml = 0;
     for (int l = 0; l < r.nl(); ++l) ml = std::max(ml, r.start[l + 1] - r.start[l]);
     if (sc.v.size() < 12 * static_cast<size_t>(ml + 4)) sc.v.resize(12 * (ml + 4));
@@ -791,10 +858,10 @@ BoundaryOperators::BoundaryOperators(const geometry::Mesh& mesh, QuadratureOptio
   // The selection depends only on the mesh type and the options: cache it process-wide.
   static std::mutex cache_mutex;
   static std::map<std::string, std::map<int, std::pair<int, int>>> cache;
-  const std::string cache_key =
-      std::to_string(mesh.ne()) + "/" + std::to_string(nb) + "/" +
-      std::to_string(static_cast<int>(mesh.map())) + "/" + std::to_string(opt_.own_tolerance) +
-      "/" + std::to_string(opt_.n_edge) + "/" + std::to_string(opt_.n_radial);
+  const std::string cache_key = std::to_string(mesh.ne()) + "/" + std::to_string(nb) + "/" +
+                                std::to_string(static_cast<int>(mesh.map())) + "/" +
+                                std::to_string(opt_.own_tolerance) + "/" +
+                                std::to_string(opt_.n_edge) + "/" + std::to_string(opt_.n_radial);
   std::map<int, std::pair<int, int>> chosen;
   if (opt_.own_tolerance > 0.0) {
     std::lock_guard<std::mutex> lock(cache_mutex);
@@ -874,8 +941,8 @@ namespace {
 // lines.
 template <BoundaryOperators::Mode M>
 void far_data(const geometry::Mesh& mesh, const Matrix3Xd& x, const Matrix3Xd* dens,
-              const VectorXd& gw, const MatrixXd& I, const MatrixXd& Id, int e,
-              FarData& F, double* esize) {
+              const VectorXd& gw, const MatrixXd& I, const MatrixXd& Id, int e, FarData& F,
+              double* esize) {
   const int nb = mesh.nb(), nb2 = nb * nb, nq = static_cast<int>(gw.size()), nqe = nq * nq;
   MatrixXd X(nb, nb);
   MatrixXd xq[3], xsq[3], xtq[3], dq[3];
@@ -967,8 +1034,8 @@ void far_sum(const FarData& F, int q0, int q1, const Vector3d& x0, const Vector3
 
 template <BoundaryOperators::Mode M>
 void BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens,
-                              const std::vector<int>* node_targets,
-                              const Matrix3Xd* point_targets, MatrixXd& out) const {
+                              const std::vector<int>* node_targets, const Matrix3Xd* point_targets,
+                              MatrixXd& out) const {
   const geometry::Mesh& mesh = mesh_;
   const int nb = mesh.nb(), nb2 = nb * nb, ne = mesh.ne();
   const int nloc = mesh.num_local();
@@ -1040,10 +1107,7 @@ void BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens,
 #pragma omp parallel reduction(+ : far_pairs, own_pairs, near_pairs, near_elements)
   {
     thread_local Scratch sc;  // per OpenMP thread, kept across calls (see far above)
-    sc.D0.resize(nb, 6 * nb);
-    sc.D1.resize(nb, 6 * nb);
-    sc.A.resize(max_lines, 6 * nb);
-    sc.B.resize(max_lines, 3 * nb);
+    size_scratch(sc, nb, max_lines);
     sc.v.resize(12 * static_cast<size_t>(max_line + 4));
     sc.near.Lc.resize(nb, max_near_lines);
     sc.near.dLc.resize(nb, max_near_lines);
@@ -1064,8 +1128,8 @@ void BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens,
           own[e] = 1;
           const Rule& r = rules_[canon_rule_[loc]];
           const int sym = canon_sym_[loc];
-          const double sign = ((sym & 1) ? -1.0 : 1.0) * ((sym & 2) ? -1.0 : 1.0) *
-                              ((sym & 4) ? -1.0 : 1.0);
+          const double sign =
+              ((sym & 1) ? -1.0 : 1.0) * ((sym & 2) ? -1.0 : 1.0) * ((sym & 4) ? -1.0 : 1.0);
           load_element(nb, K, x, sdens, e * nb2, canon_perm_[sym].data(), sc);
           if (jf)
             line_sum_jf(nb, r, sign, x0, sc, acc);
@@ -1094,10 +1158,8 @@ void BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens,
           // radial sinh scale per edge: h / max |J v| over the rays to the edge's two ends
           // (|J v|^2 is convex along the edge), J = [x_s x_t] at p*.
           double hu[4];
-          const double ends[4][2][2] = {{{-1, -1}, {-1, 1}},
-                                        {{1, -1}, {1, 1}},
-                                        {{-1, -1}, {1, -1}},
-                                        {{-1, 1}, {1, 1}}};
+          const double ends[4][2][2] = {
+              {{-1, -1}, {-1, 1}}, {{1, -1}, {1, 1}}, {{-1, -1}, {1, -1}}, {{-1, 1}, {1, 1}}};
           for (int ei = 0; ei < 4; ++ei) {
             double jv = 0;
             for (int k2 = 0; k2 < 2; ++k2)
@@ -1223,7 +1285,8 @@ Matrix3Xd BoundaryOperators::single_layer_gauss(const geometry::Mesh& mesh, cons
 
 QuadratureOptions scale_orders(const QuadratureOptions& resolved, const OrderScales& k) {
   if (resolved.nq_far <= 0 || resolved.n_edge <= 0 || resolved.n_edge_near <= 0)
-    throw std::invalid_argument("scale_orders: options must be resolved (BoundaryOperators::options())");
+    throw std::invalid_argument(
+        "scale_orders: options must be resolved (BoundaryOperators::options())");
   if (!(k.far > 0 && k.own > 0 && k.near > 0 && k.mid >= 0))
     throw std::invalid_argument("scale_orders: factors must be positive");
   QuadratureOptions q = resolved;
