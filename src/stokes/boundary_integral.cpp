@@ -436,6 +436,60 @@ void size_scratch(Scratch& sc, int nb, int lines) {
   size_lines(sc, nb, lines);
 }
 
+// One register block of stage 1: columns k .. k+7 of A (and of B if WithB) for NL (1 or 2)
+// lines with bases c[r], e[r] and outputs a[r], b[r]. Each sum runs over i in order.
+template <int NL, bool WithB>
+__attribute__((always_inline)) inline void stage1_block(int nb, int k, const double* const* c,
+                                                        const double* const* e, const double* D,
+                                                        long ldD, double* const* a,
+                                                        double* const* b) {
+  v4d p[NL][2], q[NL][2];
+  for (int r = 0; r < NL; ++r) p[r][0] = p[r][1] = q[r][0] = q[r][1] = v4d{0, 0, 0, 0};
+  for (int i = 0; i < nb; ++i) {
+    v4d d0, d1;
+    std::memcpy(&d0, D + i * ldD + k, sizeof d0);
+    std::memcpy(&d1, D + i * ldD + k + 4, sizeof d1);
+    for (int r = 0; r < NL; ++r) {
+      p[r][0] += c[r][i] * d0;
+      p[r][1] += c[r][i] * d1;
+      if constexpr (WithB) {
+        q[r][0] += e[r][i] * d0;
+        q[r][1] += e[r][i] * d1;
+      }
+    }
+  }
+  for (int r = 0; r < NL; ++r) {
+    std::memcpy(a[r] + k, &p[r][0], sizeof(v4d));
+    std::memcpy(a[r] + k + 4, &p[r][1], sizeof(v4d));
+    if constexpr (WithB) {
+      std::memcpy(b[r] + k, &q[r][0], sizeof(v4d));
+      std::memcpy(b[r] + k + 4, &q[r][1], sizeof(v4d));
+    }
+  }
+}
+
+// Stage 1 for NL (1 or 2) lines from line l: every block of columns, B only where it has them.
+template <int NL>
+__attribute__((always_inline)) inline void stage1_lines(int nb, int l, int kp, int k3,
+                                                        const double* Lc, const double* dLc,
+                                                        const double* D, long ldD, double* A,
+                                                        long ldA, double* B, long ldB) {
+  const double *c[NL], *e[NL];
+  double *a[NL], *b[NL];
+  for (int r = 0; r < NL; ++r) {
+    c[r] = Lc + static_cast<long>(l + r) * nb;
+    e[r] = dLc + static_cast<long>(l + r) * nb;
+    a[r] = A + (l + r) * ldA;
+    b[r] = B + (l + r) * ldB;
+  }
+  for (int k = 0; k < kp; k += 8) {
+    if (k < k3)
+      stage1_block<NL, true>(nb, k, c, e, D, ldD, a, b);
+    else
+      stage1_block<NL, false>(nb, k, c, e, D, ldD, a, b);
+  }
+}
+
 // Stage 1 for nl lines: A(l, :) = sum_i Lc(i, l) D(i, 0:Kn), B(l, :) = sum_i dLc(i, l)
 // D(i, 0:n3) (row-major D, A, B; Lc, dLc column l at + l nb). Register blocks of two lines x 8
 // columns (the rows of D are read once per pair of lines and the sums stay in registers); D, A
@@ -446,77 +500,8 @@ __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default"))) vo
     double* A, long ldA, double* B, long ldB) {
   const int kp = pad8(Kn), k3 = pad8(n3);
   int l = 0;
-  for (; l + 1 < nl; l += 2) {
-    const double* c0 = Lc + static_cast<long>(l) * nb;
-    const double* c1 = c0 + nb;
-    const double* e0 = dLc + static_cast<long>(l) * nb;
-    const double* e1 = e0 + nb;
-    double* a0 = A + l * ldA;
-    double* a1 = a0 + ldA;
-    double* b0 = B + l * ldB;
-    double* b1 = b0 + ldB;
-    for (int k = 0; k < kp; k += 8) {
-      v4d p00 = {0, 0, 0, 0}, p01 = p00, p10 = p00, p11 = p00;
-      if (k < k3) {
-        v4d q00 = p00, q01 = p00, q10 = p00, q11 = p00;
-        for (int i = 0; i < nb; ++i) {
-          v4d d0, d1;
-          std::memcpy(&d0, D + i * ldD + k, sizeof d0);
-          std::memcpy(&d1, D + i * ldD + k + 4, sizeof d1);
-          p00 += c0[i] * d0;
-          p01 += c0[i] * d1;
-          p10 += c1[i] * d0;
-          p11 += c1[i] * d1;
-          q00 += e0[i] * d0;
-          q01 += e0[i] * d1;
-          q10 += e1[i] * d0;
-          q11 += e1[i] * d1;
-        }
-        std::memcpy(b0 + k, &q00, sizeof q00);
-        std::memcpy(b0 + k + 4, &q01, sizeof q01);
-        std::memcpy(b1 + k, &q10, sizeof q10);
-        std::memcpy(b1 + k + 4, &q11, sizeof q11);
-      } else {
-        for (int i = 0; i < nb; ++i) {
-          v4d d0, d1;
-          std::memcpy(&d0, D + i * ldD + k, sizeof d0);
-          std::memcpy(&d1, D + i * ldD + k + 4, sizeof d1);
-          p00 += c0[i] * d0;
-          p01 += c0[i] * d1;
-          p10 += c1[i] * d0;
-          p11 += c1[i] * d1;
-        }
-      }
-      std::memcpy(a0 + k, &p00, sizeof p00);
-      std::memcpy(a0 + k + 4, &p01, sizeof p01);
-      std::memcpy(a1 + k, &p10, sizeof p10);
-      std::memcpy(a1 + k + 4, &p11, sizeof p11);
-    }
-  }
-  if (l < nl) {  // the last line of an odd count
-    const double* c0 = Lc + static_cast<long>(l) * nb;
-    const double* e0 = dLc + static_cast<long>(l) * nb;
-    double* a0 = A + l * ldA;
-    double* b0 = B + l * ldB;
-    for (int k = 0; k < kp; k += 8) {
-      v4d p0 = {0, 0, 0, 0}, p1 = p0, q0 = p0, q1 = p0;
-      for (int i = 0; i < nb; ++i) {
-        v4d d0, d1;
-        std::memcpy(&d0, D + i * ldD + k, sizeof d0);
-        std::memcpy(&d1, D + i * ldD + k + 4, sizeof d1);
-        p0 += c0[i] * d0;
-        p1 += c0[i] * d1;
-        q0 += e0[i] * d0;
-        q1 += e0[i] * d1;
-      }
-      std::memcpy(a0 + k, &p0, sizeof p0);
-      std::memcpy(a0 + k + 4, &p1, sizeof p1);
-      if (k < k3) {
-        std::memcpy(b0 + k, &q0, sizeof q0);
-        std::memcpy(b0 + k + 4, &q1, sizeof q1);
-      }
-    }
-  }
+  for (; l + 1 < nl; l += 2) stage1_lines<2>(nb, l, kp, k3, Lc, dLc, D, ldD, A, ldA, B, ldB);
+  if (l < nl) stage1_lines<1>(nb, l, kp, k3, Lc, dLc, D, ldD, A, ldA, B, ldB);
 }
 
 // Sum the kernel over the points of one line rule; the element data are in sc.D0/D1 (in the
