@@ -4,6 +4,7 @@
 #include <unistd.h>
 #include <zlib.h>
 
+#include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -93,22 +94,37 @@ void Checkpoint::write(const std::string& path) const {
   b.append(kEnd, 8);
 
   const std::string tmp = path + ".tmp";
-  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0) throw CheckpointError("cannot write " + tmp + ": " + std::strerror(errno));
+  // A failed write removes the temporary file: no partial checkpoint is left behind.
+  auto fail = [&](const std::string& what) {
+    const std::string err = std::strerror(errno);
+    ::close(fd);
+    ::unlink(tmp.c_str());
+    throw CheckpointError("cannot write " + path + " (" + what + "): " + err);
+  };
   size_t off = 0;
   while (off < b.size()) {
     const ssize_t n = ::write(fd, b.data() + off, b.size() - off);
-    if (n < 0) {
-      const std::string err = std::strerror(errno);
-      ::close(fd);
-      throw CheckpointError("cannot write " + tmp + ": " + err);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) fail("write");
+    if (n == 0) {
+      errno = ENOSPC;
+      fail("write");
     }
     off += static_cast<size_t>(n);
   }
-  ::fsync(fd);
-  ::close(fd);
-  if (std::rename(tmp.c_str(), path.c_str()) != 0)
-    throw CheckpointError("cannot rename " + tmp + " to " + path + ": " + std::strerror(errno));
+  if (::fsync(fd) != 0) fail("fsync");
+  if (::close(fd) != 0) {
+    const std::string err = std::strerror(errno);
+    ::unlink(tmp.c_str());
+    throw CheckpointError("cannot write " + path + " (close): " + err);
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    const std::string err = std::strerror(errno);
+    ::unlink(tmp.c_str());
+    throw CheckpointError("cannot rename " + tmp + " to " + path + ": " + err);
+  }
 }
 
 Checkpoint Checkpoint::read(const std::string& path) {

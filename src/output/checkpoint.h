@@ -7,7 +7,8 @@
 //   u32 CRC-32 (zlib) of everything before it | "CKPTEND\0"
 // Doubles are stored bit for bit, so a restart continues exactly.
 // write() writes <path>.tmp, fsyncs it and renames it over <path>: a crash never leaves a
-// half-written checkpoint under the final name.
+// half-written checkpoint under the final name, and a failed write (disk full) removes the
+// temporary file and throws CheckpointError naming the file.
 // read() refuses, with a message naming the file: a foreign file (bad magic), another format
 // version, a truncated file, a checksum mismatch, or malformed records.
 #pragma once

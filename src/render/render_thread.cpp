@@ -51,7 +51,10 @@ void RenderThread::start(const RenderOptions& options, LogFn log) {
         std::lock_guard<std::mutex> l(mu_);
         info_ = renderer->context_info();
       }
-      if (log_) log_(renderer->context_info().summary());
+      if (log_) {
+        log_(renderer->context_info().summary());
+        for (const std::string& w : renderer->warnings()) log_("warning: " + w);
+      }
       if (opt_.png) ::mkdir(opt_.png_dir.c_str(), 0777);
       if (opt_.mp4) {
         output::Mp4Options mo;
@@ -69,7 +72,6 @@ void RenderThread::start(const RenderOptions& options, LogFn log) {
     }
     p.set_value();
     Image img;
-    long frame_no = 0;
     try {
       while (auto item = queue_->pop()) {
         FrameTimings t;
@@ -85,7 +87,7 @@ void RenderThread::start(const RenderOptions& options, LogFn log) {
         if (opt_.png) {
           auto t0 = std::chrono::steady_clock::now();
           char name[64];
-          std::snprintf(name, sizeof name, "/frame_%06ld.png", frame_no);
+          std::snprintf(name, sizeof name, "/frame_%06ld.png", static_cast<long>(item->snapshot.frame));
           output::write_png(opt_.png_dir + name, img.width, img.height, img.rgba.data());
           png_ms = ms_since(t0);
         }
@@ -96,7 +98,6 @@ void RenderThread::start(const RenderOptions& options, LogFn log) {
         }
         if (opt_.preview)
           output::write_png_atomic(opt_.preview_path, img.width, img.height, img.rgba.data());
-        ++frame_no;
         std::lock_guard<std::mutex> l(mu_);
         ++stats_.movie_frames;
         stats_.total.upsample_ms += t.upsample_ms;
@@ -133,6 +134,7 @@ void RenderThread::fail(const std::string& msg) {
 }
 
 bool RenderThread::submit_frame(Snapshot s) {
+  if (s.frame < 0) throw std::invalid_argument("RenderThread::submit_frame: a movie frame needs its index");
   return queue_ && queue_->push_frame(std::move(s));
 }
 

@@ -10,7 +10,7 @@
 //                                      // the MP4 (trailer), join. Idempotent; also run by ~.
 //
 // Per movie frame the thread renders (Renderer), writes <png_dir>/frame_NNNNNN.png when
-// options.png (NNNNNN = running count from 0) and appends to the MP4 when options.mp4. A
+// options.png (NNNNNN = the snapshot's frame index, so a resumed run continues the numbering) and appends to the MP4 when options.mp4. A
 // preview is rendered and written atomically to options.preview_path. If rendering or
 // writing fails the thread records the error, closes the queue (producers see false) and
 // finishes the MP4; error() returns the message.

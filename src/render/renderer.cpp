@@ -121,18 +121,33 @@ void Renderer::create_framebuffers() {
   if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
     throw std::runtime_error("render: resolve framebuffer incomplete");
   if (opt_.msaa > 1) {
-    glGenFramebuffers(1, &msaa_fbo_);
-    glGenRenderbuffers(2, msaa_rb_);
-    glBindFramebuffer(GL_FRAMEBUFFER, msaa_fbo_);
-    glBindRenderbuffer(GL_RENDERBUFFER, msaa_rb_[0]);
-    glRenderbufferStorageMultisample(GL_RENDERBUFFER, opt_.msaa, GL_RGBA8, w, h);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, msaa_rb_[0]);
-    glBindRenderbuffer(GL_RENDERBUFFER, msaa_rb_[1]);
-    glRenderbufferStorageMultisample(GL_RENDERBUFFER, opt_.msaa, GL_DEPTH_COMPONENT24, w, h);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, msaa_rb_[1]);
-    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-      throw std::runtime_error("render: multisample framebuffer (" + std::to_string(opt_.msaa) +
-                               "x) incomplete; try msaa = 0");
+    // The largest sample count the GL supports up to the request (llvmpipe: 4); a count the
+    // framebuffer still refuses is halved down to 2, then off.
+    int max_samples = 0;
+    glGetIntegerv(GL_MAX_SAMPLES, &max_samples);
+    int samples = std::min(opt_.msaa, max_samples);
+    if (samples != opt_.msaa)
+      warnings_.push_back("render.msaa " + std::to_string(opt_.msaa) + " is above what this GL supports (" +
+                          std::to_string(max_samples) + "): using " + std::to_string(std::max(samples, 0)) + "x");
+    for (; samples > 1; samples /= 2) {
+      glGenFramebuffers(1, &msaa_fbo_);
+      glGenRenderbuffers(2, msaa_rb_);
+      glBindFramebuffer(GL_FRAMEBUFFER, msaa_fbo_);
+      glBindRenderbuffer(GL_RENDERBUFFER, msaa_rb_[0]);
+      glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples, GL_RGBA8, w, h);
+      glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, msaa_rb_[0]);
+      glBindRenderbuffer(GL_RENDERBUFFER, msaa_rb_[1]);
+      glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples, GL_DEPTH_COMPONENT24, w, h);
+      glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, msaa_rb_[1]);
+      if (glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE) break;
+      glBindFramebuffer(GL_FRAMEBUFFER, 0);
+      glDeleteFramebuffers(1, &msaa_fbo_);
+      glDeleteRenderbuffers(2, msaa_rb_);
+      msaa_fbo_ = 0;
+      warnings_.push_back("multisample framebuffer with " + std::to_string(samples) +
+                          " samples is incomplete: trying " + std::to_string(samples / 2));
+    }
+    msaa_used_ = samples > 1 ? samples : 0;
   }
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }

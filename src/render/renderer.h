@@ -18,6 +18,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "render/camera.h"
@@ -52,6 +53,10 @@ class Renderer {
 
   const ContextInfo& context_info() const { return context_->info(); }
   const RenderOptions& options() const { return opt_; }
+  // The multisample count in use (0: none): the largest the GL supports up to options().msaa.
+  int msaa() const { return msaa_used_; }
+  // What differs from the options asked for (e.g. a lower msaa), one line each.
+  const std::vector<std::string>& warnings() const { return warnings_; }
   const Colormap& colormap() const { return colormap_; }
   // Range and camera of the last rendered frame.
   double last_vmin() const { return vmin_; }
@@ -72,6 +77,8 @@ class Renderer {
   unsigned surface_prog_ = 0, lines_prog_ = 0;
   unsigned vao_ = 0, vbo_[3] = {0, 0, 0}, ebo_tri_ = 0, ebo_lines_ = 0, cmap_tex_ = 0;
   unsigned msaa_fbo_ = 0, msaa_rb_[2] = {0, 0}, fbo_ = 0, rb_[2] = {0, 0};
+  int msaa_used_ = 0;
+  std::vector<std::string> warnings_;
   size_t uploaded_indices_ = 0;
   std::vector<uint8_t> readback_;
 };
