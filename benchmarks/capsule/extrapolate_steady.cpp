@@ -13,7 +13,7 @@
 #include <string>
 
 #include "capsule/extrapolation.h"
-#include "checkpoint_state.h"
+#include "app/run_checkpoint.h"
 #include "diagnostics/diagnostics.h"
 
 using namespace capflow;
@@ -50,14 +50,14 @@ int main(int argc, char** argv) {
   }
   if (argc - i != 4) return usage();
   try {
-    const study::CheckpointState a = study::load_checkpoint_state(argv[i]);
-    const study::CheckpointState b = study::load_checkpoint_state(argv[i + 1]);
-    const study::CheckpointState c = study::load_checkpoint_state(argv[i + 2]);
+    const app::RunCheckpoint a = app::read_run_checkpoint(argv[i]);
+    const app::RunCheckpoint b = app::read_run_checkpoint(argv[i + 1]);
+    const app::RunCheckpoint c = app::read_run_checkpoint(argv[i + 2]);
     const std::string out = argv[i + 3];
     for (const auto* s : {&b, &c})
-      if (s->opt.mesh.elements != a.opt.mesh.elements || s->opt.mesh.nb != a.opt.mesh.nb)
+      if (s->options.mesh.elements != a.options.mesh.elements || s->options.mesh.nb != a.options.mesh.nb)
         throw std::runtime_error(s->path + ": another mesh than " + a.path);
-    const double ta = a.ck.scalar("t"), tb = b.ck.scalar("t"), tc = c.ck.scalar("t");
+    const double ta = a.t, tb = b.t, tc = c.t;
     const double delta = tb - ta;
     if (!(delta > 0) || std::abs((tc - tb) - delta) > 1e-6 * std::max(1.0, delta))
       throw std::runtime_error("the checkpoints must be in time order and equally spaced: t = " +
@@ -72,14 +72,14 @@ int main(int argc, char** argv) {
                 r.q, delta, tau, r.residual, r.factor);
     print_shape("extrapolated", tc, mesh, r.x);
 
-    output::Checkpoint ck = c.ck;
-    ck.put("x", std::vector<double>(r.x.data(), r.x.data() + r.x.size()));
+    app::RunCheckpoint ck = c;
+    ck.x = r.x;
     std::ostringstream note;
     note << "one-mode extrapolation (benchmarks/capsule/extrapolate_steady) of " << a.path << " (t=" << ta
          << "), " << b.path << " (t=" << tb << "), " << c.path << " (t=" << tc << "): q=" << r.q
          << ", tau=" << tau << ", residual=" << r.residual;
-    ck.put("extrapolated", note.str());
-    ck.write(out);
+    ck.note = note.str();
+    app::write_run_checkpoint(ck, out);
     std::printf("wrote %s (t = %.4f, the time of C; start a run from it with start.from)\n", out.c_str(), tc);
     return 0;
   } catch (const std::exception& e) {

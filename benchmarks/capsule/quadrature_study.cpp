@@ -23,7 +23,8 @@
 #include <vector>
 
 #include "capsule/capsule.h"
-#include "checkpoint_state.h"
+#include "app/run_checkpoint.h"
+#include "control/control_file.h"
 
 using namespace capflow;
 
@@ -77,11 +78,11 @@ int run(int argc, char** argv) {
     std::fprintf(stderr, "usage: %s [--check-ref K] RUN_DIR|CKPT VARIANT...\n", argv[0]);
     return 2;
   }
-  const study::CheckpointState state = study::load_checkpoint_state(argv[a++]);
+  const app::RunCheckpoint state = app::read_latest_checkpoint(argv[a++]);
   const geometry::Mesh& mesh = *state.mesh;
   const Eigen::Matrix3Xd& x = state.x;
   const long n = mesh.num_local();
-  const capsule::Capsule cap(mesh, state.opt.law, state.opt.flow, control::dynamics_options(state.opt));
+  const capsule::Capsule cap(mesh, state.options.law, state.options.flow, control::dynamics_options(state.options));
   const Eigen::Matrix3Xd f = cap.traction(x);
   std::vector<int> targets(n);
   for (int m = 0; m < n; ++m) targets[m] = m;
@@ -90,7 +91,7 @@ int run(int argc, char** argv) {
   stokes::BoundaryOperators(mesh, stokes::scale_orders(def, {3, 3, 3})).single_layer(x, f, targets, ref);
   const double scale = ref.colwise().norm().maxCoeff();
   std::printf("%s: NE=%d NB=%d t=%.3f, %ld nodes, max|SL| %.3f\n", state.path.c_str(), mesh.ne(),
-              mesh.nb(), state.ck.scalar("t"), n, scale);
+              mesh.nb(), state.t, n, scale);
   if (check_ref > 0) {
     Eigen::Matrix3Xd ref2;
     stokes::BoundaryOperators(mesh, stokes::scale_orders(def, {check_ref, check_ref, check_ref}))

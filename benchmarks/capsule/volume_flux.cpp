@@ -20,7 +20,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "checkpoint_state.h"
+#include "app/run_checkpoint.h"
 #include "capsule/capsule.h"
 #include "control/control_file.h"
 #include "control/schedule.h"
@@ -39,16 +39,13 @@ struct Variant {
 };
 
 int run(const std::string& arg, const Variant& var) {
-  const study::CheckpointState state = study::load_checkpoint_state(arg);
+  const app::RunCheckpoint state = app::read_latest_checkpoint(arg);
   const std::string& path = state.path;
-  const output::Checkpoint& ck = state.ck;
-  const control::ControlOptions& opt = state.opt;
+  const control::ControlOptions& opt = state.options;
   const geometry::Mesh& mesh = *state.mesh;
   const Eigen::Matrix3Xd& x = state.x;
-  const double t = ck.scalar("t");
-  control::CaScheduler schedule(opt.ca, opt.steady, 0.0);
-  schedule.restore(ck.doubles("schedule"));
-  const double ca = schedule.ca(t);
+  const double t = state.t;
+  const double ca = state.ca;
 
   capsule::DynamicsOptions dyn = control::dynamics_options(opt);
   const stokes::QuadratureOptions run_quadrature = capsule::quadrature_rules(mesh, dyn);

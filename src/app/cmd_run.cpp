@@ -1,9 +1,11 @@
 // capflow run CONTROL.json | --resume RUN_DIR: simulate the capsule as the control file says (see
-// README, "Control file"); the control file is watched and edits steer the run.
-// Signals: the first SIGINT/SIGTERM finishes the current step, writes a checkpoint, finalises the
-// movie and exits with a summary; a second one exits at once (the fragmented MP4 stays playable).
-// Exit codes: 0 done, 2 invalid control file or arguments, 4 the simulation failed (the message
-// names the cause, time and location; the last good state is kept and checkpointed).
+// README, "capflow run"); the control file is watched and edits steer the run.
+// Signals: the first SIGINT/SIGTERM/SIGHUP finishes the current step, writes a checkpoint,
+// finalises the movie and exits with a summary; a second one exits at once (the fragmented MP4
+// stays playable). SIGXFSZ is ignored, so that a file-size limit is an output failure (exit 5)
+// rather than a kill.
+// Exit codes (app/errors.h): 0 done, 2 invalid input, 3 internal error, 4 the simulation
+// failed, 5 a run file could not be written.
 #include <atomic>
 #include <csignal>
 #include <iostream>
@@ -31,39 +33,53 @@ struct RunArgs {
   std::string control;
   std::string output_dir;
   std::string resume;
+  bool overwrite = false;
   double t_end = -1;
 };
 
-void run_cmd(const RunArgs& a) {
-  std::unique_ptr<Simulation> sim;
-  if (!a.resume.empty()) {
-    if (!a.control.empty() || !a.output_dir.empty())
-      throw UserError("--resume RUN_DIR takes no control file or --output: the run directory "
-                      "holds both (edit its control file to steer)");
-    ResumeOverrides ov;
-    if (a.t_end > 0) ov.t_end = a.t_end;
-    try {
-      sim = Simulation::resume(a.resume, ov);
-    } catch (const std::exception& e) {
-      throw UserError(std::string("cannot resume: ") + e.what());
-    }
-  } else {
-    if (a.control.empty()) throw UserError("give a control file (capflow run CONTROL.json) or --resume RUN_DIR");
-    control::ParsedControl parsed;
-    try {
-      parsed = control::load_control_file(a.control);
-    } catch (const control::ControlError& e) {
-      throw UserError(e.what());
-    }
-    if (!a.output_dir.empty()) parsed.options.output.dir = a.output_dir;
-    if (a.t_end > 0) parsed.options.time.t_end = a.t_end;
-    for (const auto& w : parsed.warnings) std::cerr << "capflow: warning: " << w.str() << "\n";
-    sim = std::make_unique<Simulation>(parsed.options, a.control);
+std::unique_ptr<Simulation> resume_run(const RunArgs& a) {
+  if (!a.control.empty() || !a.output_dir.empty() || a.overwrite)
+    throw UserError(
+        "--resume RUN_DIR takes no control file, --output or --overwrite: the run "
+        "directory holds its control (edit its watched control file to steer)");
+  ResumeOverrides ov;
+  if (a.t_end > 0) ov.t_end = a.t_end;
+  try {
+    return Simulation::resume(a.resume, ov);
+  } catch (const UserError& e) {
+    throw UserError(std::string("cannot resume: ") + e.what());
   }
+}
+
+std::unique_ptr<Simulation> new_run(const RunArgs& a) {
+  if (a.control.empty())
+    throw UserError("give a control file (capflow run CONTROL.json) or --resume RUN_DIR");
+  control::ParsedControl parsed;
+  try {
+    parsed = control::load_control_file(a.control);
+  } catch (const control::ControlError& e) {
+    throw UserError(e.what());
+  }
+  NewRun run{parsed.options, parsed.options, a.control, a.overwrite};
+  if (!a.output_dir.empty()) run.options.output.dir = a.output_dir;
+  if (a.t_end > 0) {
+    run.options.time.t_end = a.t_end;
+    const auto issues = control::time_issues(run.options.time, 0.0);
+    if (!issues.empty())
+      throw UserError("--t-end " + std::to_string(a.t_end) + ": " + issues[0].message);
+  }
+  for (const auto& w : parsed.warnings) std::cerr << "capflow: warning: " << w.str() << "\n";
+  return std::make_unique<Simulation>(run);
+}
+
+void run_cmd(const RunArgs& a) {
+  std::signal(SIGXFSZ, SIG_IGN);
+  std::unique_ptr<Simulation> sim = a.resume.empty() ? new_run(a) : resume_run(a);
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
+  std::signal(SIGHUP, on_signal);
   const RunSummary s = sim->run(&g_stop);
-  if (s.failed) set_exit_code(4);
+  set_exit_code(s.exit_code());
 }
 
 void setup_run(CLI::App& root) {
@@ -72,6 +88,8 @@ void setup_run(CLI::App& root) {
   c->add_option("control", args->control, "Control file (JSON); watched for live edits")
       ->check(CLI::ExistingFile);
   c->add_option("-o,--output", args->output_dir, "Run directory (overrides output.dir)");
+  c->add_flag("--overwrite", args->overwrite,
+              "Replace the capflow run already in the run directory (its files are removed)");
   c->add_option("--resume", args->resume, "Continue the run in RUN_DIR from its newest checkpoint")
       ->check(CLI::ExistingDirectory);
   // The same range as time.t_end in the control file.

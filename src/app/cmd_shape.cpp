@@ -9,12 +9,12 @@
 #include <iomanip>
 #include <iostream>
 #include <memory>
-#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "app/commands.h"
+#include "control/record.h"
 #include "diagnostics/diagnostics.h"
 #include "geometry/shapes.h"
 #include "geometry/surface.h"
@@ -56,28 +56,20 @@ void run_shape(const ShapeArgs& a) {
   const Matrix3Xd x = map_points(mesh.reference(), f);
   const diagnostics::ShapeDiagnostics d = diagnostics::measure_shape(mesh, x);
 
-  nlohmann::ordered_json out;
-  out["area"] = d.area;
-  out["volume"] = d.volume;
-  out["L"] = d.L;
-  out["S"] = d.S;
-  out["W"] = d.W;
-  out["D"] = d.D;
-  out["Lc"] = d.Lc;
-  out["Sc"] = d.Sc;
-  out["Wc"] = d.Wc;
-  out["edge_curvature"] = d.edge_curvature;
+  control::Record out;
+  out.set("area", d.area).set("volume", d.volume).set("L", d.L).set("S", d.S).set("W", d.W);
+  out.set("D", d.D).set("Lc", d.Lc).set("Sc", d.Sc).set("Wc", d.Wc).set("edge_curvature", d.edge_curvature);
   if (shape == "lamellar") {
-    out["max_mean_curvature_error"] = nullptr;
+    out.set_json("max_mean_curvature_error", "null");
   } else {
     const SurfaceGeometry g = compute_geometry(mesh, x);
     double err = 0;
     for (int m = 0; m < mesh.num_local(); ++m)
       err = std::max(err, std::abs(g.mean_curvature[m] -
                                    ellipsoid_mean_curvature(ea, eb, ec, x.col(m))));
-    out["max_mean_curvature_error"] = err;
+    out.set("max_mean_curvature_error", err);
   }
-  std::cout << out.dump(2) << std::endl;
+  std::cout << out.text(2) << std::endl;
 }
 
 void setup_shape(CLI::App& root) {

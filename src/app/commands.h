@@ -4,19 +4,17 @@
 //   static int my_cmd(...);  CAPFLOW_COMMAND(order, setup_function)
 // where setup_function(CLI::App& root) adds the subcommand, its options and a callback.
 // Callbacks report user errors by throwing capflow::app::UserError (printed as
-// "capflow: error: ..." with exit code 2); anything else is an internal error (exit 3).
+// "capflow: error: ..." with exit code 2), output failures by OutputError (exit 5); anything
+// else is an internal error (exit 3). app/errors.h lists the codes.
 #pragma once
 
 #include <CLI/CLI.hpp>
 #include <functional>
-#include <stdexcept>
 #include <string>
 
-namespace capflow::app {
+#include "app/errors.h"
 
-struct UserError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
+namespace capflow::app {
 
 using CommandSetup = std::function<void(CLI::App& root)>;
 bool register_command(int order, CommandSetup setup);

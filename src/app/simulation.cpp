@@ -1,61 +1,56 @@
 #include "app/simulation.h"
 
-#include "app/figure_data.h"
-#include "output/vtk.h"
-
 #include <omp.h>
 #include <unistd.h>
 
-#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
-#include <nlohmann/json.hpp>
 #include <sstream>
 #include <thread>
 
+#include "app/errors.h"
+#include "app/figure_data.h"
+#include "app/output_cadence.h"
+#include "app/progress.h"
+#include "app/run_checkpoint.h"
+#include "app/run_directory.h"
+#include "app/run_log.h"
 #include "capsule/capsule.h"
 #include "capsule/health.h"
 #include "control/control_file.h"
 #include "control/edit.h"
+#include "control/record.h"
 #include "control/schedule.h"
 #include "control/watcher.h"
 #include "diagnostics/diagnostics.h"
 #include "geometry/surface.h"
 #include "membrane/membrane.h"
-#include "output/checkpoint.h"
+#include "output/vtk.h"
 #include "render/render_thread.h"
 #include "render/snapshot.h"
 
 namespace capflow::app {
 
 namespace fs = std::filesystem;
-using json = nlohmann::json;
+using control::Record;
+
+int RunSummary::exit_code() const {
+  if (output_failed) return exit_code::kOutputFailed;
+  if (failed) return exit_code::kSimulationFailed;
+  return exit_code::kOk;
+}
 
 namespace {
 
-std::string iso_now() {
-  const std::time_t t = std::time(nullptr);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
-  return buf;
-}
-
-// The element division a checkpoint was written with (checkpoints before mesh.division have
-// none: the cube).
-geometry::Division checkpoint_division(const output::Checkpoint& c, const std::string& path) {
-  if (!c.has("division")) return geometry::Division::Cube;
-  const int64_t d = c.integer("division");
-  if (d < 0 || d > 2)
-    throw std::runtime_error(path + ": invalid element division " + std::to_string(d) +
-                             " in the checkpoint (0 cube, 1 box, 2 diagonal)");
-  return static_cast<geometry::Division>(d);
-}
+const char* const kTimeseriesHeader =
+    "t,ca,D,L,S,W,Lc,Sc,Wc,area,volume,edge_curvature,tau_max,tau_min,inclination_deg,"
+    "volume_drift,steps,wall_s\n";
+const char* const kSteadyHeader = "t,ca,L,S,W,Lc,Sc,Wc,D,area,edge_curvature,tau_max,tau_min\n";
 
 struct Measures {
   diagnostics::ShapeDiagnostics shape;
@@ -63,144 +58,115 @@ struct Measures {
   Eigen::Vector3d tau_min_at = Eigen::Vector3d::Zero();
 };
 
-// First multiple of `every` strictly after t (with a relative guard against round-off).
-double next_after(double t, double every) {
-  return every > 0 ? (std::floor(t / every + 1e-9) + 1.0) * every : INFINITY;
+// What observe() found after a step.
+struct Observation {
+  Measures m;
+  bool measured = false;
+  // Ca in force during the step that ended here: the rows, frames and surfaces of this time
+  // carry it (at a level change the new Ca applies from this time on, to the next step).
+  double ca = 0;
+  control::CaScheduler::Event schedule;
+};
+
+// "the step from t = ... failed" or "" after advance().
+struct StepOutcome {
+  std::string failure;
+};
+
+std::string fixed(double v, int digits) {
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(digits) << v;
+  return s.str();
 }
 
-// Keeps the header and the first `rows` data lines of a CSV file.
-void truncate_csv(const fs::path& p, long rows) {
-  std::ifstream in(p);
-  if (!in) throw std::runtime_error("cannot read " + p.string());
-  std::string line, out;
-  long n = -1;
-  while (n < rows && std::getline(in, line)) {
-    out += line + "\n";
-    ++n;
+// An output writer's exception (vtk, pvd) as an output failure naming the file.
+template <class F>
+void as_output(const std::string& what, F&& f) {
+  try {
+    f();
+  } catch (const OutputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw OutputError(what + ": " + e.what());
   }
-  in.close();
-  std::ofstream o(p, std::ios::trunc);
-  o << out;
 }
 
 }  // namespace
 
 struct Simulation::Impl {
-  control::ControlOptions opt;
-  fs::path dir;
+  control::ControlOptions opt;       // effective
+  control::ControlOptions file_opt;  // the control file as last read: the base of live edits
+  std::unique_ptr<RunDirectory> dir;
+  std::unique_ptr<RunLog> log;
   std::string control_source;
   std::unique_ptr<control::FileWatcher> watcher;
-  std::ofstream timeseries, steady, events, log;
+  bool check_file_now = false;  // resume: apply what was edited while the run was stopped
   std::unique_ptr<geometry::Mesh> mesh;
   std::unique_ptr<capsule::Capsule> cap;
   std::unique_ptr<capsule::HealthMonitor> health;
   std::unique_ptr<control::CaScheduler> schedule;
   std::unique_ptr<render::RenderThread> renderer;
   std::unique_ptr<output::PvdCollection> pvd;
+  std::unique_ptr<OutputCadence> cadence;
   long frames = 0, rows = 0, steady_rows = 0, resumes = 0, vtk_index = 0;
   bool checkpoint_now_seen = false;
-  std::chrono::steady_clock::time_point start;
+  std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
   double wall_offset = 0;  // wall seconds of earlier sessions of this run
-  bool tty = false;
+  double next_sample = 0;  // next shape sample for the steady-state test
+  // Outputs due at the current step that are not written yet. After an output failure the
+  // checkpoint records them and a resume writes them first, so that no row or frame is missing.
+  Due pending;
+  double pending_ca = 0;  // the Ca those outputs carry
+  double pending_steady_ca = NAN;
+  bool paused_logged = false;
 
   double wall() const {
     return wall_offset +
            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
+  double t() const { return cap->time(); }
+  void say(const std::string& line) { log->say(line); }
+  void event(Record e) { log->event(std::move(e), cap ? cap->time() : 0.0); }
 
-  void say(const std::string& line) {
-    if (tty) std::cerr << "\r\033[K";
-    std::cerr << line << std::endl;
-    log << "[" << iso_now() << "] " << line << std::endl;
-  }
+  // ---- set-up -------------------------------------------------------------------------------
 
-  void event(json e) {
-    e["wall_time"] = iso_now();
-    if (cap) e["t"] = cap->time();
-    events << e.dump() << "\n";
-    events.flush();
-  }
-
-  void open_files(bool append) {
-    const auto mode = append ? std::ios::out | std::ios::app : std::ios::out | std::ios::trunc;
-    auto open = [&](std::ofstream& f, const char* name) {
-      f.open(dir / name, mode);
-      if (!f) throw std::runtime_error("cannot write " + (dir / name).string());
-    };
-    open(timeseries, "timeseries.csv");
-    open(steady, "steady.csv");
-    open(events, "events.jsonl");
-    open(log, "run.log");
-    if (!append) {
-      timeseries << "t,ca,D,L,S,W,Lc,Sc,Wc,area,volume,edge_curvature,tau_max,tau_min,"
-                    "inclination_deg,volume_drift,steps,wall_s\n";
-      steady << "ca,L,S,W,Lc,Sc,Wc,D,area,edge_curvature,tau_max,tau_min\n";
-    }
-    tty = isatty(STDERR_FILENO);
-  }
-
-  void write_effective_control() {
-    const fs::path tmp = dir / "control.json.tmp";
-    {
-      std::ofstream c(tmp, std::ios::trunc);
-      c << control::to_json_text(opt);
-      if (!c) throw std::runtime_error("cannot write " + tmp.string());
-    }
-    fs::rename(tmp, dir / "control.json");
-  }
-
-  // The mesh, the capsule (at rest, or from `start`: see start_from), and the health monitor and
-  // Ca schedule for that initial state (a resume restores their saved state afterwards).
-  void build_solver(const control::StartOptions* start = nullptr) {
+  // The mesh and the capsule at rest (a resume or start.from sets its state afterwards).
+  void build_solver() {
     if (opt.numerics.threads > 0) omp_set_num_threads(opt.numerics.threads);
     mesh = control::make_mesh(opt.mesh);
-    cap = std::make_unique<capsule::Capsule>(*mesh, opt.law, opt.flow, control::dynamics_options(opt));
-    if (start) start_from(*start);
-    health = std::make_unique<capsule::HealthMonitor>(*mesh, cap->positions());
-    schedule = std::make_unique<control::CaScheduler>(opt.ca, opt.steady, cap->time());
+    cap = std::make_unique<capsule::Capsule>(*mesh, opt.law, opt.flow,
+                                             control::dynamics_options(opt));
   }
 
-  // "start.from": the newest checkpoint of a run directory (or a .ckpt file), its shape resampled
-  // onto this run's mesh; time goes on from the checkpoint's t (build_solver starts the Ca
-  // schedule there).
-  void start_from(const control::StartOptions& st) {
-    const std::string where = "start.from: " + st.from;
-    std::string ckpt = st.from;
-    if (fs::is_directory(st.from)) {
-      ckpt = latest_checkpoint(st.from);
-      if (ckpt.empty())
-        throw std::runtime_error(where + " has no checkpoint in checkpoints/ (give a run directory "
-                                 "with a checkpoint, or a .ckpt file)");
-    } else if (!fs::is_regular_file(st.from)) {
-      throw std::runtime_error(where + ": no such run directory or checkpoint file");
-    }
-    const output::Checkpoint c = output::Checkpoint::read(ckpt);  // names the file on error
-    std::unique_ptr<geometry::Mesh> source;
-    try {
-      source = control::make_mesh({static_cast<int>(c.integer("elements")),
-                                   static_cast<int>(c.integer("nb")), checkpoint_division(c, ckpt)});
-    } catch (const std::invalid_argument& e) {
-      throw std::runtime_error(ckpt + ": invalid mesh in the checkpoint (" + e.what() + ")");
-    }
-    const long n = source->num_local();
-    const auto& xs = c.doubles("x", 3 * n);
-    const double t0 = c.scalar("t");
-    if (!std::isfinite(t0) || t0 < 0) throw std::runtime_error(ckpt + ": invalid time t in the checkpoint");
-    Eigen::Matrix3Xd x =
-        geometry::resample_surface(*source, Eigen::Map<const Eigen::Matrix3Xd>(xs.data(), 3, n), *mesh);
-    if (!x.allFinite()) throw std::runtime_error(ckpt + ": the stored shape is not finite");
+  void start_monitors(std::optional<double> initial_ca) {
+    health = std::make_unique<capsule::HealthMonitor>(*mesh, cap->positions());
+    schedule = std::make_unique<control::CaScheduler>(opt.ca, opt.steady, cap->time(), initial_ca);
+    cadence = std::make_unique<OutputCadence>(opt.output, cap->time());
+    next_sample = cap->time();
+  }
+
+  // "start.from": the source's shape resampled onto this run's mesh; time goes on from its t.
+  void start_from(const RunCheckpoint& src) {
+    Eigen::Matrix3Xd x = geometry::resample_surface(*src.mesh, src.x, *mesh);
+    if (!x.allFinite())
+      throw UserError(src.path + ": the stored shape does not resample to a finite one");
     const double drift_before = capsule::enclosed_volume(*mesh, x) / cap->initial_volume() - 1.0;
-    if (st.restore_volume) x = capsule::rescale_to_volume(*mesh, x, cap->initial_volume());
-    cap->set_state(x, t0, 0);
+    if (opt.start.restore_volume) x = capsule::rescale_to_volume(*mesh, x, cap->initial_volume());
+    cap->set_state(x, src.t, 0);
     std::ostringstream m;
-    m << "initial shape from " << ckpt << " (NE=" << source->ne() << " NB=" << source->nb()
-      << ", t = " << t0 << ") resampled onto NE=" << mesh->ne() << " NB=" << mesh->nb()
-      << "; its volume drift " << drift_before
-      << (st.restore_volume ? " was removed (start.restore_volume)" : " is kept");
+    m << "initial shape from " << src.path << " (NE=" << src.mesh->ne() << " NB=" << src.mesh->nb()
+      << ", t = " << src.t << ", Ca = " << src.ca << ") resampled onto NE=" << mesh->ne()
+      << " NB=" << mesh->nb() << "; its volume drift " << drift_before
+      << (opt.start.restore_volume ? " was removed (start.restore_volume)" : " is kept");
     say(m.str());
-    event({{"event", "start_from"}, {"checkpoint", ckpt}, {"source_elements", source->ne()},
-           {"source_nb", source->nb()}, {"volume_drift_before", drift_before},
-           {"restore_volume", st.restore_volume}});
+    event(Record()
+              .set("event", "start_from")
+              .set("checkpoint", src.path)
+              .set("source_elements", src.mesh->ne())
+              .set("source_nb", src.mesh->nb())
+              .set("source_ca", src.ca)
+              .set("volume_drift_before", drift_before)
+              .set("restore_volume", opt.start.restore_volume));
   }
 
   void start_renderer() {
@@ -209,26 +175,40 @@ struct Simulation::Impl {
     if (!want_frames && !opt.render.preview) return;
     render::RenderOptions ro = opt.render;
     ro.png = want_frames && opt.output.png;
-    ro.png_dir = (dir / "frames").string();
+    ro.png_dir = dir->file("frames").string();
     ro.mp4 = want_frames && opt.output.mp4.enabled;
-    ro.mp4_path = (dir / (resumes == 0 ? std::string("movie.mp4")
-                                       : "movie.part" + std::to_string(resumes + 1) + ".mp4"))
+    ro.mp4_path = dir->file(resumes == 0 ? std::string("movie.mp4")
+                                         : "movie.part" + std::to_string(resumes + 1) + ".mp4")
                       .string();
     ro.fps = opt.output.mp4.fps;
     ro.crf = opt.output.mp4.quality;
-    ro.preview_path = (dir / "preview.png").string();
-    if (ro.png) fs::create_directories(ro.png_dir);
+    ro.preview_path = dir->file("preview.png").string();
+    if (ro.png) dir->subdirectory("frames");
     std::string err;
-    if (!ro.IsValid(&err)) throw std::runtime_error("render options: " + err);
+    if (!ro.IsValid(&err)) throw UserError("render options: " + err);
     renderer = std::make_unique<render::RenderThread>();
-    renderer->start(ro, [this](const std::string& line) { say(line); });
+    try {
+      renderer->start(ro, [this](const std::string& line) {
+        try {
+          say(line);
+        } catch (const std::exception&) {  // the renderer thread must not throw
+        }
+      });
+    } catch (const std::exception& e) {
+      renderer.reset();
+      throw OutputError(std::string("cannot render frames: ") + e.what());
+    }
   }
+
+  void write_effective_control() { dir->write_text("control.json", control::to_json_text(opt)); }
+
+  // ---- measuring and writing ----------------------------------------------------------------
 
   Measures measure(bool full) const {
     Measures m;
     diagnostics::ShapeOptions so;
     so.axes = opt.flow.type == capsule::FlowType::SimpleShear ? diagnostics::AxesMode::Shear
-                                                               : diagnostics::AxesMode::FlowAxes;
+                                                              : diagnostics::AxesMode::FlowAxes;
     so.extrema = full;
     so.edge_curvature = full;
     m.shape = diagnostics::measure_shape(*mesh, cap->positions(), so);
@@ -258,12 +238,32 @@ struct Simulation::Impl {
     return sn;
   }
 
+  void write_row(const Measures& m, double ca) {
+    const auto& d = m.shape;
+    char buf[640];
+    std::snprintf(buf, sizeof buf,
+                  "%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.12g,%.10g,%.10g,"
+                  "%.10g,%.8g,%.6e,%ld,%.3f\n",
+                  cap->time(), ca, d.D, d.L, d.S, d.W, d.Lc, d.Sc, d.Wc, d.area, d.volume,
+                  d.edge_curvature, m.tau_max, m.tau_min, d.inclination_deg,
+                  d.volume / cap->initial_volume() - 1.0, cap->step_count(), wall());
+    dir->timeseries().append(buf);
+    ++rows;
+  }
+
+  void write_steady(const Measures& m, double ca) {
+    const auto& d = m.shape;
+    char buf[512];
+    std::snprintf(buf, sizeof buf,
+                  "%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g\n",
+                  cap->time(), ca, d.L, d.S, d.W, d.Lc, d.Sc, d.Wc, d.D, d.area, d.edge_curvature,
+                  m.tau_max, m.tau_min);
+    dir->steady().append(buf);
+    ++steady_rows;
+  }
+
   void write_profiles(long index) {
-    const fs::path pdir = dir / "profiles";
-    fs::create_directories(pdir);
-    char name[64];
-    std::snprintf(name, sizeof name, "profile_%06ld.csv", index);
-    std::ofstream f(pdir / name, std::ios::trunc);
+    std::ostringstream f;
     f << "plane,t,a,b\n";
     const diagnostics::ShapeDiagnostics d = measure(false).shape;
     const Eigen::Vector3d c = d.centroid;
@@ -276,6 +276,10 @@ struct Simulation::Impl {
         f << buf;
       }
     }
+    dir->subdirectory("profiles");
+    char name[64];
+    std::snprintf(name, sizeof name, "profiles/profile_%06ld.csv", index);
+    dir->write_text(name, f.str());
   }
 
   void submit_frame(const Measures& m, double ca) {
@@ -286,227 +290,442 @@ struct Simulation::Impl {
     }
     render::Snapshot sn = snapshot(m, ca);
     sn.frame = frames++;
-    if (!renderer->submit_frame(std::move(sn))) {
-      say("renderer stopped: " + renderer->error() + "; frames are no longer written");
-      event({{"event", "warning"}, {"cause", "renderer"}, {"message", renderer->error()}});
-      renderer->stop();
-      renderer.reset();
-    }
+    if (!renderer->submit_frame(std::move(sn)))
+      throw OutputError("frames could not be written: " + renderer->error());
   }
 
   // ParaView surface (node grid, tensions) + the .pvd collection entry.
   void write_vtk(const Measures& m, double ca) {
-    if (!pvd) pvd = std::make_unique<output::PvdCollection>((dir / figures::kSurfaceCollection).string());
-    fs::create_directories(dir / "vtk");
-    output::VtkSurface v = figures::vtk_from_snapshot(snapshot(m, ca));
-    const std::string name = figures::surface_file_name(vtk_index++);
-    output::write_vtp((dir / name).string(), v);
-    pvd->add(cap->time(), name);
+    dir->subdirectory("vtk");
+    const std::string name = figures::surface_file_name(vtk_index);
+    as_output("cannot write " + dir->file(name).string(), [&] {
+      if (!pvd)
+        pvd = std::make_unique<output::PvdCollection>(
+            dir->file(figures::kSurfaceCollection).string());
+      output::write_vtp(dir->file(name).string(), figures::vtk_from_snapshot(snapshot(m, ca)));
+      pvd->add(cap->time(), name);
+    });
+    ++vtk_index;
   }
 
-  void write_row(const Measures& m, double ca) {
-    const auto& d = m.shape;
-    char buf[640];
-    std::snprintf(buf, sizeof buf,
-                  "%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.12g,%.10g,%.10g,"
-                  "%.10g,%.8g,%.6e,%ld,%.3f\n",
-                  cap->time(), ca, d.D, d.L, d.S, d.W, d.Lc, d.Sc, d.Wc, d.area, d.volume,
-                  d.edge_curvature, m.tau_max, m.tau_min, d.inclination_deg,
-                  d.volume / cap->initial_volume() - 1.0, cap->step_count(), wall());
-    timeseries << buf;
-    timeseries.flush();
-    ++rows;
-  }
-
-  void write_steady(const Measures& m, double ca) {
-    const auto& d = m.shape;
-    char buf[512];
-    std::snprintf(buf, sizeof buf,
-                  "%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g\n", ca,
-                  d.L, d.S, d.W, d.Lc, d.Sc, d.Wc, d.D, d.area, d.edge_curvature, m.tau_max,
-                  m.tau_min);
-    steady << buf;
-    steady.flush();
-    ++steady_rows;
+  RunCheckpoint checkpoint_state() const {
+    RunCheckpoint s;
+    s.options = opt;
+    s.control = control::to_json_text(opt);
+    s.control_file = control::to_json_text(file_opt);
+    s.x = cap->positions();
+    s.t = cap->time();
+    s.steps = cap->step_count();
+    s.ca = schedule->ca(cap->time());
+    s.schedule = schedule->state();
+    s.health_normals = health->normals();
+    s.health_flags = health->flags();
+    s.frames = frames;
+    s.vtk_index = vtk_index;
+    s.rows = rows;
+    s.steady_rows = steady_rows;
+    s.resumes = resumes;
+    s.wall_s = wall();
+    s.checkpoint_now_seen = checkpoint_now_seen;
+    s.pending_row = pending.row;
+    s.pending_frame = pending.frame;
+    s.pending_vtk = pending.vtk;
+    s.pending_steady_ca = pending_steady_ca;
+    s.pending_ca = pending_ca;
+    return s;
   }
 
   void write_checkpoint(const std::string& why) {
-    output::Checkpoint c;
-    const Eigen::Matrix3Xd& x = cap->positions();
-    c.put("x", std::vector<double>(x.data(), x.data() + x.size()));
-    c.put_scalar("t", cap->time());
-    c.put_int("steps", cap->step_count());
-    c.put_int("elements", opt.mesh.elements);
-    c.put_int("nb", opt.mesh.nb);
-    c.put_int("division", static_cast<int>(opt.mesh.division));
-    c.put("law", membrane::to_string(opt.law.kind));
-    c.put("schedule", schedule->state());
-    const Eigen::Matrix3Xd& n = health->normals();
-    c.put("health_normals", std::vector<double>(n.data(), n.data() + n.size()));
-    c.put("health_flags", health->flags());
-    c.put_int("frames", frames);
-    c.put_int("vtk_index", vtk_index);
-    c.put_int("rows", rows);
-    c.put_int("steady_rows", steady_rows);
-    c.put_int("resumes", resumes);
-    c.put_scalar("wall_s", wall());
-    c.put_int("checkpoint_now_seen", checkpoint_now_seen ? 1 : 0);
-    c.put("control", control::to_json_text(opt));
-    const fs::path cdir = dir / "checkpoints";
-    fs::create_directories(cdir);
-    char name[64];
-    std::snprintf(name, sizeof name, "ckpt_%010ld.ckpt", cap->step_count());
-    const fs::path path = cdir / name;
-    c.write(path.string());
-    // Keep the three newest.
-    std::vector<fs::path> all;
-    for (const auto& e : fs::directory_iterator(cdir))
-      if (e.path().extension() == ".ckpt") all.push_back(e.path());
-    std::sort(all.begin(), all.end());
-    for (size_t k = 0; k + 3 < all.size(); ++k) fs::remove(all[k]);
-    event({{"event", "checkpoint"}, {"file", path.string()}, {"why", why}, {"steps", cap->step_count()}});
-    log << "[" << iso_now() << "] checkpoint " << path.string() << " (" << why << ")" << std::endl;
+    dir->subdirectory("checkpoints");
+    const fs::path path = dir->checkpoint_path(cap->step_count());
+    write_run_checkpoint(checkpoint_state(), path.string());
+    dir->prune_checkpoints(3);
+    event(Record()
+              .set("event", "checkpoint")
+              .set("file", path.string())
+              .set("why", why)
+              .set("steps", cap->step_count()));
+    dir->log().append("[" + iso_now() + "] checkpoint " + path.string() + " (" + why + ")\n");
   }
 
-  // Applies a saved edit of the control file (step boundary).
-  void check_edits() {
-    if (!watcher || !watcher->changed()) return;
+  // ---- the four parts of a loop iteration ---------------------------------------------------
+
+  // Applies a saved edit of the control file (step boundary) and run.checkpoint_now.
+  void apply_edits() {
+    const bool changed = watcher && (watcher->changed() || check_file_now);
+    check_file_now = false;
+    if (changed) apply_file_edit();
+    if (opt.run.checkpoint_now && !checkpoint_now_seen) write_checkpoint("run.checkpoint_now");
+    checkpoint_now_seen = opt.run.checkpoint_now;
+  }
+
+  void apply_file_edit() {
     control::ParsedControl edited;
     try {
       edited = control::load_control_file(control_source);
     } catch (const control::ControlError& e) {
-      json errs = json::array();
+      std::vector<std::string> errs;
       for (const auto& i : e.issues()) errs.push_back(i.str());
+      const std::string what = e.what();
       say("refused edit of " + control_source + " (the run keeps its settings):\n  " +
-          std::string(e.what()).substr(std::string(e.what()).find('\n') + 1));
-      event({{"event", "edit"}, {"accepted", false}, {"errors", errs}});
+          what.substr(what.find('\n') + 1));
+      event(Record().set("event", "edit").set("accepted", false).set("errors", errs));
       return;
     }
-    const control::EditResult r = control::apply_edit(opt, edited.options);
-    json applied = json::object(), refused = json::object();
-    for (const auto& c : r.applied) applied[c.path] = {{"old", json::parse(c.old_value)}, {"new", json::parse(c.new_value)}};
-    for (const auto& c : r.refused)
-      refused[c.path] = {{"old", json::parse(c.old_value)}, {"new", json::parse(c.new_value)}, {"reason", c.reason}};
-    if (r.applied.empty() && r.refused.empty()) return;  // saved without changes
-    const double t = cap->time();
-    const double ca_before = schedule->ca(t);
+    const control::EditResult r = control::apply_edit(opt, file_opt, edited.options);
+    file_opt = edited.options;
+    if (r.applied.empty() && r.refused.empty()) return;  // saved without changes to the run
+    const double now = t();
+    const double ca_before = schedule->ca(now);
+    const control::OutputOptions before = opt.output;
     opt = r.merged;
     cap->set_volume_correction(opt.numerics.volume_correction);
-    if (r.schedule_changed) schedule->replace(opt.ca, opt.steady, t);
+    if (r.steady_changed) schedule->set_steady(opt.steady);
+    std::string schedule_note;
+    if (r.schedule_changed) schedule_note = schedule->edit(opt.ca, now);
     if (opt.numerics.threads > 0) omp_set_num_threads(opt.numerics.threads);
+    cadence->edit(before, opt.output, now);
     write_effective_control();
     std::ostringstream m;
-    m << "edit applied at t = " << t << ":";
-    for (const auto& c : r.applied) m << " " << c.path << " " << c.old_value << " -> " << c.new_value << ";";
-    for (const auto& c : r.refused) m << " refused " << c.path << " (" << c.reason << ");";
-    if (r.schedule_changed) m << " Ca " << ca_before << " -> " << schedule->ca(t);
+    m << "edit applied at t = " << now << ":";
+    Record applied, refused;
+    for (const auto& c : r.applied) {
+      m << " " << c.path << " " << c.old_value << " -> " << c.new_value << ";";
+      applied.set(c.path, Record().set_json("old", c.old_value).set_json("new", c.new_value));
+    }
+    for (const auto& c : r.refused) {
+      m << " refused " << c.path << " (" << c.reason << ");";
+      refused.set(c.path, Record()
+                              .set_json("old", c.old_value)
+                              .set_json("new", c.new_value)
+                              .set("reason", c.reason));
+    }
+    if (r.schedule_changed)
+      m << " Ca " << ca_before << " -> " << schedule->ca(now) << " (" << schedule_note << ")";
     say(m.str());
     for (const auto& w : edited.warnings) say("warning: " + w.str());
-    event({{"event", "edit"}, {"accepted", true}, {"applied", applied}, {"refused", refused},
-           {"ca", schedule->ca(t)}});
+    event(Record()
+              .set("event", "edit")
+              .set("accepted", true)
+              .set("applied", applied)
+              .set("refused", refused)
+              .set("ca", schedule->ca(now)));
+  }
+
+  // One step and the health check; on failure the last good state is restored.
+  StepOutcome advance(double dt) {
+    const double t0 = t();
+    const Eigen::Matrix3Xd last_good = cap->positions();
+    const long steps_prev = cap->step_count();
+    StepOutcome out;
+    try {
+      cap->step(dt, [&](double tt) { return schedule->ca(tt); });
+    } catch (const std::exception& e) {
+      out.failure = "the step from t = " + std::to_string(t0) + " failed: " + e.what();
+    }
+    if (out.failure.empty()) {
+      const capsule::HealthReport h = health->check(cap->positions(), cap->time());
+      if (h.level == capsule::HealthLevel::Failure) out.failure = h.message;
+      if (h.level == capsule::HealthLevel::Warning) {
+        say("warning: " + h.message);
+        event(Record().set("event", "warning").set("cause", h.cause).set("message", h.message));
+      }
+    }
+    if (!out.failure.empty()) cap->set_state(last_good, t0, steps_prev);
+    return out;
+  }
+
+  // Diagnostics as the outputs due need them, and the Ca schedule's shape sample.
+  Observation observe(const Due& due, double dt) {
+    Observation ob;
+    const double now = t();
+    ob.ca = schedule->ca(now);
+    const double eps = 1e-9 * dt;
+    const bool sample = now >= next_sample - eps;
+    if (!sample && !due.full_measure()) return ob;
+    ob.m = measure(due.full_measure());
+    ob.measured = true;
+    if (sample) {
+      // Shape samples for steady-state detection: about 20 per window.
+      next_sample = now + std::min(opt.steady.window / 20.0, opt.output.csv_every) - eps;
+      ob.schedule = schedule->sample(now, ob.m.shape.L, ob.m.shape.S, ob.m.shape.W);
+      if (ob.schedule.steady && !due.full_measure()) ob.m = measure(true);
+    }
+    return ob;
+  }
+
+  // Writes the pending row, frame and surface of this step (each cleared once written).
+  void write_due(const Measures& m, double ca) {
+    if (pending.frame) {
+      submit_frame(m, ca);
+      pending.frame = false;
+    }
+    if (pending.vtk) {
+      write_vtk(m, ca);
+      pending.vtk = false;
+    }
+    if (pending.row) {
+      write_row(m, ca);
+      pending.row = false;
+    }
+  }
+
+  // A resume after an output failure: what that step did not write, first.
+  void write_pending() {
+    if (!pending.full_measure() && std::isnan(pending_steady_ca)) return;
+    const Measures m = measure(true);
+    if (!std::isnan(pending_steady_ca)) {
+      write_steady(m, pending_steady_ca);
+      pending_steady_ca = NAN;
+    }
+    write_due(m, pending_ca);
+    say("wrote the outputs of t = " + std::to_string(t()) + " that the output failure left out");
+  }
+
+  // Writes what is due at this step. Returns true when the run should stop at a steady state.
+  bool emit(const Observation& ob, const Due& due) {
+    const double now = t();
+    const double ca = ob.ca;
+    bool stop_here = false;
+    const control::CaScheduler::Event& ev = ob.schedule;
+    pending = due;
+    pending.checkpoint = false;
+    pending_ca = ca;
+    pending_steady_ca = ev.steady ? ev.steady_ca : NAN;
+    if (ev.steady) {
+      write_steady(ob.m, ev.steady_ca);
+      pending_steady_ca = NAN;
+      if (opt.steady.stop && schedule->in_final_hold()) stop_here = true;
+    }
+    if (ev.steady || ev.level_changed) {
+      say(ev.description);
+      event(Record()
+                .set("event", ev.steady ? "steady" : "level")
+                .set("message", ev.description)
+                .set("ca", ev.steady ? ev.steady_ca : schedule->ca(now))
+                .set("D", ob.m.shape.D)
+                .set("L", ob.m.shape.L));
+    }
+    write_due(ob.m, ca);
+    if (due.full_measure()) {
+      if (renderer && opt.render.preview) renderer->offer_preview(snapshot(ob.m, ca));
+      const capsule::HealthReport w =
+          health->check_wrinkling(now, ob.m.tau_min, ob.m.tau_min_at, schedule->max_rate());
+      if (w.level == capsule::HealthLevel::Warning) {
+        say("warning: " + w.message);
+        event(Record().set("event", "warning").set("cause", w.cause).set("message", w.message));
+      }
+    }
+    if (due.checkpoint) write_checkpoint("output.checkpoint_every");
+    cadence->fired(due, opt.output, now);
+    return stop_here;
+  }
+
+  void report_progress(Progress& progress, const Observation& ob, double D) {
+    if (!progress.due()) return;
+    const double now = t();
+    const double rate = progress.rate(cap->step_count());
+    const double eta = (opt.time.t_end - now) / opt.time.dt / std::max(rate, 1e-9);
+    const double eta_steady = schedule->eta_steady(now);
+    std::ostringstream line;
+    line << "t=" << fixed(now, 4) << " Ca=" << fixed(schedule->ca(now), 4)
+         << " D=" << fixed(ob.measured ? ob.m.shape.D : D, 4) << " " << fixed(rate, 1)
+         << " steps/s, ETA " << fixed(eta, 0) << " s to t_end";
+    if (eta_steady >= 0) line << ", steady in ~" << fixed(eta_steady, 2) << " (sim. time)";
+    log->status(line.str());
+  }
+
+  // ---- the session --------------------------------------------------------------------------
+
+  void announce(bool fresh) {
+    const control::ControlOptions& o = opt;
+    std::ostringstream m;
+    m << "capflow run: " << membrane::to_string(o.law.kind) << ", " << o.flow.name()
+      << ", NE=" << o.mesh.elements
+      << (o.mesh.division == geometry::Division::Cube
+              ? ""
+              : std::string(" (") + control::division_name(o.mesh.division) + " division)")
+      << " NB=" << o.mesh.nb << ", dt=" << o.time.dt << ", t_end=" << o.time.t_end << ", "
+      << omp_get_max_threads() << " threads, symmetry targets " << cap->symmetry().targets().size()
+      << "/" << mesh->num_unique();
+    if (o.numerics.quadrature_scale != 1.0)
+      m << ", quadrature orders x" << o.numerics.quadrature_scale;
+    m << " -> " << dir->path().string();
+    if (watcher)
+      m << "; watching " << control_source
+        << (watcher->using_inotify() ? " (inotify)" : " (polling)");
+    say(m.str());
+    say("Ca schedule: " + schedule->describe(t()));
+    if (fresh) event(Record().set("event", "start").set_json("control", control::to_json_text(o)));
+  }
+
+  // A paused run: returns true while paused (logs the change once).
+  bool paused(Progress& progress) {
+    if (opt.run.state == control::RunState::Paused) {
+      if (!paused_logged) {
+        say("paused at t = " + std::to_string(t()) + " (set run.state to \"running\" to continue)");
+        event(Record().set("event", "pause"));
+        paused_logged = true;
+        progress.pause();
+      }
+      return true;
+    }
+    if (paused_logged) {
+      say("running again");
+      event(Record().set("event", "continue"));
+      paused_logged = false;
+      progress.unpause();
+    }
+    return false;
+  }
+
+  // Runs `f`; an output failure inside it degrades the log (stderr only) instead of throwing.
+  template <class F>
+  void best_effort(F&& f) {
+    try {
+      f();
+    } catch (const OutputError& e) {
+      log->degrade();
+      std::cerr << "capflow: " << e.what() << "\n";
+    }
   }
 };
 
 Simulation::Simulation() : impl_(std::make_unique<Impl>()) {}
 
 Simulation::Simulation(const control::ControlOptions& options, const std::string& control_source)
-    : impl_(std::make_unique<Impl>()) {
+    : Simulation(NewRun{options, options, control_source, false}) {}
+
+Simulation::Simulation(const NewRun& run) : impl_(std::make_unique<Impl>()) {
   Impl& s = *impl_;
-  s.opt = options;
-  s.dir = options.output.dir;
-  s.control_source = control_source;
-  if (!options.start.from.empty()) {
-    // Refuse before anything in the run directory is created or truncated: starting from a
-    // checkpoint inside this run's own directory would overwrite the source's outputs.
-    auto inside = [](const fs::path& p, const fs::path& dir) {
+  s.opt = run.options;
+  s.file_opt = run.file_options;
+  s.control_source = run.control_source;
+  const fs::path out = run.options.output.dir;
+  // Everything that can be refused is checked before the run directory is touched.
+  std::optional<RunCheckpoint> source;
+  if (!run.options.start.from.empty()) {
+    auto inside = [](const fs::path& p, const fs::path& d) {
       const std::string a = fs::weakly_canonical(fs::absolute(p)).string() + "/";
-      const std::string b = fs::weakly_canonical(fs::absolute(dir)).string() + "/";
+      const std::string b = fs::weakly_canonical(fs::absolute(d)).string() + "/";
       return a.compare(0, b.size(), b) == 0;
     };
-    if (inside(options.start.from, s.dir))
-      throw std::runtime_error("start.from: " + options.start.from + " is in this run's own directory (output.dir " +
-                               s.dir.string() + "), whose outputs a new run overwrites: give another "
-                               "run's directory, or continue this run with --resume");
+    if (inside(run.options.start.from, out))
+      throw UserError("start.from: " + run.options.start.from +
+                      " is in this run's own directory (output.dir " + out.string() +
+                      "), whose outputs a new run overwrites: give another run's directory, "
+                      "or continue this run with --resume");
+    try {
+      source = read_latest_checkpoint(run.options.start.from);
+    } catch (const UserError& e) {
+      throw UserError(std::string("start.from: ") + e.what());
+    }
+    const std::vector<control::ControlIssue> ti = control::time_issues(s.opt.time, source->t);
+    if (!ti.empty())
+      throw UserError(ti[0].path + ": " + ti[0].message +
+                      " (the run starts at the time of start.from)");
   }
-  std::error_code ec;
-  fs::create_directories(s.dir, ec);
-  if (ec)
-    throw std::runtime_error("cannot create the run directory " + s.dir.string() + ": " + ec.message());
-  s.open_files(false);
+  const std::optional<double> initial_ca =
+      source ? std::optional<double>(source->ca) : std::nullopt;
+  try {
+    const control::CaScheduler probe(s.opt.ca, s.opt.steady, 0.0, initial_ca);
+    (void)probe;
+  } catch (const std::invalid_argument& e) {
+    throw UserError(e.what());
+  }
+  s.dir = RunDirectory::open(
+      out, run.overwrite ? RunDirectory::Mode::Overwrite : RunDirectory::Mode::Create);
+  s.log = std::make_unique<RunLog>(*s.dir, isatty(STDERR_FILENO));
+  s.dir->open_records(true, kTimeseriesHeader, kSteadyHeader);
   s.write_effective_control();
-  {
-    std::ofstream src(s.dir / "control.source", std::ios::trunc);
-    src << (control_source.empty() ? "" : fs::absolute(control_source).string()) << "\n";
-  }
-  s.build_solver(options.start.from.empty() ? nullptr : &options.start);
-  s.checkpoint_now_seen = options.run.checkpoint_now;
-  if (!control_source.empty()) s.watcher = std::make_unique<control::FileWatcher>(control_source);
+  s.dir->write_text(
+      "control.source",
+      (run.control_source.empty() ? "" : fs::absolute(run.control_source).string()) + "\n");
+  s.build_solver();
+  if (source) s.start_from(*source);
+  s.start_monitors(initial_ca);
+  s.checkpoint_now_seen = run.options.run.checkpoint_now;
+  if (!run.control_source.empty())
+    s.watcher = std::make_unique<control::FileWatcher>(run.control_source);
   s.start_renderer();
 }
 
 std::string Simulation::latest_checkpoint(const std::string& run_dir) {
-  const fs::path cdir = fs::path(run_dir) / "checkpoints";
-  std::string best;
-  std::error_code ec;
-  for (const auto& e : fs::directory_iterator(cdir, ec))
-    if (e.path().extension() == ".ckpt" && e.path().string() > best) best = e.path().string();
-  return best;
+  const std::vector<fs::path> all = RunDirectory::checkpoints(run_dir);
+  return all.empty() ? "" : all.front().string();
 }
 
-std::unique_ptr<Simulation> Simulation::resume(const std::string& run_dir, const ResumeOverrides& ov) {
-  const fs::path dir(run_dir);
-  if (!fs::is_directory(dir)) throw std::runtime_error(run_dir + ": no such run directory");
-  const std::string ckpt = latest_checkpoint(run_dir);
-  if (ckpt.empty()) throw std::runtime_error(run_dir + ": no checkpoint in checkpoints/ to resume from");
-  const output::Checkpoint c = output::Checkpoint::read(ckpt);
-  control::ParsedControl parsed;
-  try {
-    parsed = control::parse_control(c.text("control"), ckpt + " (stored control)");
-  } catch (const control::ControlError& e) {
-    throw std::runtime_error(e.what());
-  }
+std::unique_ptr<Simulation> Simulation::resume(const std::string& run_dir,
+                                               const ResumeOverrides& ov) {
   std::unique_ptr<Simulation> sim(new Simulation());
   Impl& s = *sim->impl_;
-  s.opt = parsed.options;
+  s.dir = RunDirectory::open(run_dir, RunDirectory::Mode::Resume);
+  std::vector<std::string> skipped;
+  const RunCheckpoint c = read_latest_checkpoint(run_dir, &skipped);
+  s.opt = c.options;
   if (ov.t_end) s.opt.time.t_end = *ov.t_end;
-  s.opt.output.dir = dir.string();
-  s.dir = dir;
+  const std::vector<control::ControlIssue> ti = control::time_issues(s.opt.time, c.t);
+  if (!ti.empty())
+    throw UserError(std::string(ov.t_end ? "--t-end" : "time.t_end") + ": " + ti[0].message +
+                    (ov.t_end ? "" : "; give --t-end to run on"));
+  s.opt.output.dir = run_dir;
   s.opt.run.state = control::RunState::Running;
-  if (c.integer("elements") != s.opt.mesh.elements || c.integer("nb") != s.opt.mesh.nb ||
-      checkpoint_division(c, ckpt) != s.opt.mesh.division)
-    throw std::runtime_error(ckpt + ": checkpoint mesh does not match its control");
-  s.build_solver();
-  const long n = s.mesh->num_local();
-  const auto& x = c.doubles("x", 3 * n);
-  s.cap->set_state(Eigen::Map<const Eigen::Matrix3Xd>(x.data(), 3, n), c.scalar("t"), c.integer("steps"));
-  s.schedule->restore(c.doubles("schedule"));
-  const auto& nrm = c.doubles("health_normals", 3 * n);
-  s.health->restore(Eigen::Map<const Eigen::Matrix3Xd>(nrm.data(), 3, n), c.doubles("health_flags"));
-  s.frames = c.integer("frames");
-  s.vtk_index = c.integer("vtk_index");
-  if (fs::exists(dir / figures::kSurfaceCollection)) {
-    s.pvd = std::make_unique<output::PvdCollection>((dir / figures::kSurfaceCollection).string());
-    s.pvd->truncate_after(c.scalar("t"));
+  try {
+    s.file_opt = control::parse_control(c.control_file, c.path + " (stored control file)").options;
+  } catch (const control::ControlError&) {
+    s.file_opt = c.options;
   }
-  s.rows = c.integer("rows");
-  s.steady_rows = c.integer("steady_rows");
-  s.resumes = c.integer("resumes") + 1;
-  s.wall_offset = c.scalar("wall_s");
-  s.checkpoint_now_seen = c.integer("checkpoint_now_seen") != 0;
-  truncate_csv(dir / "timeseries.csv", s.rows);
-  truncate_csv(dir / "steady.csv", s.steady_rows);
-  s.open_files(true);
+  s.dir->timeseries().open(s.dir->file("timeseries.csv"), false);
+  s.dir->timeseries().keep_lines(c.rows + 1);
+  s.dir->steady().open(s.dir->file("steady.csv"), false);
+  s.dir->steady().keep_lines(c.steady_rows + 1);
+  s.dir->open_records(false, kTimeseriesHeader, kSteadyHeader);
+  s.log = std::make_unique<RunLog>(*s.dir, isatty(STDERR_FILENO));
+  s.build_solver();
+  s.cap->set_state(c.x, c.t, c.steps);
+  s.start_monitors(c.ca);
+  try {
+    s.schedule->restore(c.schedule);
+    s.health->restore(c.health_normals, c.health_flags);
+  } catch (const std::invalid_argument& e) {
+    throw UserError(c.path + ": " + e.what());
+  }
+  s.frames = c.frames;
+  s.vtk_index = c.vtk_index;
+  s.rows = c.rows;
+  s.steady_rows = c.steady_rows;
+  s.resumes = c.resumes + 1;
+  s.wall_offset = c.wall_s;
+  s.checkpoint_now_seen = c.checkpoint_now_seen;
+  s.pending.row = c.pending_row;
+  s.pending.frame = c.pending_frame;
+  s.pending.vtk = c.pending_vtk;
+  s.pending_steady_ca = c.pending_steady_ca;
+  s.pending_ca = c.pending_ca;
+  if (fs::exists(s.dir->file(figures::kSurfaceCollection)))
+    as_output("cannot rewrite " + s.dir->file(figures::kSurfaceCollection).string(), [&] {
+      s.pvd = std::make_unique<output::PvdCollection>(
+          s.dir->file(figures::kSurfaceCollection).string());
+      s.pvd->truncate_after(c.t);
+    });
   s.write_effective_control();
   {
-    std::ifstream src(dir / "control.source");
+    std::ifstream src(s.dir->file("control.source"));
     std::string line;
     if (src && std::getline(src, line) && !line.empty() && fs::exists(line)) {
       s.control_source = line;
       s.watcher = std::make_unique<control::FileWatcher>(line);
+      s.check_file_now = true;
     }
   }
-  s.event({{"event", "resume"}, {"checkpoint", ckpt}, {"steps", s.cap->step_count()}});
-  s.say("resuming " + dir.string() + " from " + ckpt + " at t = " + std::to_string(s.cap->time()));
+  for (const std::string& why : skipped)
+    s.say("warning: skipped a checkpoint that does not read: " + why);
+  s.event(Record()
+              .set("event", "resume")
+              .set("checkpoint", c.path)
+              .set("steps", s.cap->step_count())
+              .set("skipped", skipped));
+  s.say("resuming " + run_dir + " from " + c.path + " at t = " + std::to_string(s.cap->time()));
   s.start_renderer();
   return sim;
 }
@@ -518,196 +737,105 @@ Simulation::~Simulation() {
 RunSummary Simulation::run(const std::atomic<bool>* stop) {
   Impl& s = *impl_;
   s.start = std::chrono::steady_clock::now();
+  Progress progress(s.log->tty());
+  progress.start(s.cap->step_count());
   RunSummary sum;
   const bool fresh = s.cap->step_count() == 0 && s.rows == 0;
-  {
-    const control::ControlOptions& o = s.opt;
-    std::ostringstream m;
-    m << "capflow run: " << membrane::to_string(o.law.kind) << ", " << o.flow.name() << ", NE="
-      << o.mesh.elements << (o.mesh.division == geometry::Division::Cube
-                                  ? ""
-                                  : std::string(" (") + control::division_name(o.mesh.division) +
-                                        " division)")
-      << " NB=" << o.mesh.nb << ", dt=" << o.time.dt << ", t_end=" << o.time.t_end
-      << ", " << omp_get_max_threads() << " threads, symmetry targets "
-      << s.cap->symmetry().targets().size() << "/" << s.mesh->num_unique();
-    if (o.numerics.quadrature_scale != 1.0)
-      m << ", quadrature orders x" << o.numerics.quadrature_scale;
-    m << " -> " << s.dir.string();
-    if (s.watcher)
-      m << "; watching " << s.control_source << (s.watcher->using_inotify() ? " (inotify)" : " (polling)");
-    s.say(m.str());
-    if (fresh) s.event({{"event", "start"}, {"control", json::parse(control::to_json_text(o))}});
-  }
-  Measures m = s.measure(true);
-  if (fresh) {
-    const double ca0 = s.schedule->ca(s.cap->time());  // t > 0 after start.from
-    s.write_row(m, ca0);
-    if (s.opt.output.frame_every > 0) s.submit_frame(m, ca0);
-    if (s.opt.output.vtk_every > 0) s.write_vtk(m, ca0);
-  }
-  double t = s.cap->time();
-  double next_csv = next_after(t, s.opt.output.csv_every);
-  double next_frame = next_after(t, s.opt.output.frame_every);
-  double next_ckpt = next_after(t, s.opt.output.checkpoint_every);
-  double next_vtk = next_after(t, s.opt.output.vtk_every);
-  double next_sample = t;
-  double last_status = -1;
-  const long steps_at_start = s.cap->step_count();
-  bool paused_logged = false;
   std::string reason = "t_end reached";
-  for (;;) {
-    const control::OutputOptions before = s.opt.output;
-    s.check_edits();
-    const control::ControlOptions& o = s.opt;
-    if (o.output.csv_every != before.csv_every) next_csv = next_after(t, o.output.csv_every);
-    if (o.output.frame_every != before.frame_every) next_frame = next_after(t, o.output.frame_every);
-    if (o.output.checkpoint_every != before.checkpoint_every) next_ckpt = next_after(t, o.output.checkpoint_every);
-    if (o.output.vtk_every != before.vtk_every) next_vtk = next_after(t, o.output.vtk_every);
-    if (o.run.checkpoint_now && !s.checkpoint_now_seen) s.write_checkpoint("run.checkpoint_now");
-    s.checkpoint_now_seen = o.run.checkpoint_now;
-    if (stop && stop->load()) {
-      reason = "stopped by signal";
-      break;
-    }
-    if (o.run.state == control::RunState::Stopped) {
-      reason = "run.state is \"stopped\"";
-      break;
-    }
-    if (o.run.state == control::RunState::Paused) {
-      if (!paused_logged) {
-        s.say("paused at t = " + std::to_string(t) + " (set run.state to \"running\" to continue)");
-        s.event({{"event", "pause"}});
-        paused_logged = true;
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(100));
-      continue;
-    }
-    if (paused_logged) {
-      s.say("running again");
-      s.event({{"event", "continue"}});
-      paused_logged = false;
-    }
-    const double dt = o.time.dt;
-    if (t >= o.time.t_end - 0.5 * dt) break;
-
-    bool stop_at_steady = false;
-    const Eigen::Matrix3Xd last_good = s.cap->positions();
-    const long steps_prev = s.cap->step_count();
-    std::string failure;
-    try {
-      s.cap->step(dt, [&](double tt) { return s.schedule->ca(tt); });
-    } catch (const std::exception& e) {
-      failure = "the step from t = " + std::to_string(t) + " failed: " + e.what();
-    }
-    if (failure.empty()) {
-      const capsule::HealthReport h = s.health->check(s.cap->positions(), s.cap->time());
-      if (h.level == capsule::HealthLevel::Failure) failure = h.message;
-      if (h.level == capsule::HealthLevel::Warning) {
-        s.say("warning: " + h.message);
-        s.event({{"event", "warning"}, {"cause", h.cause}, {"message", h.message}});
-      }
-    }
-    if (!failure.empty()) {
-      s.cap->set_state(last_good, t, steps_prev);
-      sum.failed = true;
-      sum.failure = failure;
-      s.say("failure: " + failure + " (keeping the last good state, t = " + std::to_string(t) + ")");
-      s.event({{"event", "failure"}, {"message", failure}});
-      reason = "failure";
-      break;
-    }
-    t = s.cap->time();
-    const double eps = 1e-9 * dt;
-    const bool frame = t >= next_frame - eps;
-    const bool vtk = t >= next_vtk - eps;
-    const bool csv = t >= next_csv - eps || frame || vtk;
-    const bool sample = t >= next_sample - eps;
-    if (csv || sample) {
-      m = s.measure(csv);
-      if (sample) {
-        // Shape samples for steady-state detection: about 20 per window.
-        next_sample = t + std::min(o.steady.window / 20.0, o.output.csv_every) - eps;
-        const control::CaScheduler::Event ev = s.schedule->sample(t, m.shape.L, m.shape.S, m.shape.W);
-        if (ev.steady) {
-          if (!csv) m = s.measure(true);
-          s.write_steady(m, s.schedule->level());
-          ++sum.steady_states;
-          if (o.steady.stop && s.schedule->in_final_hold()) stop_at_steady = true;
-        }
-        if (ev.steady || ev.level_changed) {
-          s.say(ev.description);
-          s.event({{"event", ev.steady ? "steady" : "level"}, {"message", ev.description},
-                   {"ca", s.schedule->ca(t)}, {"D", m.shape.D}, {"L", m.shape.L}});
-        }
-      }
-      if (frame) {
-        s.submit_frame(m, s.schedule->ca(t));
-        next_frame = next_after(t, o.output.frame_every);
-      }
-      if (vtk) {
-        s.write_vtk(m, s.schedule->ca(t));
-        next_vtk = next_after(t, o.output.vtk_every);
-      }
-      if (csv) {
-        if (t >= next_csv - eps) {
-          s.write_row(m, s.schedule->ca(t));
-          next_csv = next_after(t, o.output.csv_every);
-        }
-        if (s.renderer && o.render.preview) s.renderer->offer_preview(s.snapshot(m, s.schedule->ca(t)));
-        const capsule::HealthReport w =
-            s.health->check_wrinkling(t, m.tau_min, m.tau_min_at, s.schedule->max_rate());
-        if (w.level == capsule::HealthLevel::Warning) {
-          s.say("warning: " + w.message);
-          s.event({{"event", "warning"}, {"cause", w.cause}, {"message", w.message}});
-        }
-      }
-    }
-    if (t >= next_ckpt - eps) {
-      s.write_checkpoint("output.checkpoint_every");
-      next_ckpt = next_after(t, o.output.checkpoint_every);
-    }
-    // Progress: at most once per second on a terminal, every 10 s otherwise.
-    const double wall = s.wall();
-    if (wall - last_status >= (s.tty ? 1.0 : 10.0)) {
-      last_status = wall;
-      const double session =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - s.start).count();
-      const double rate = (s.cap->step_count() - steps_at_start) / std::max(session, 1e-9);
-      const double eta = (o.time.t_end - t) / dt / std::max(rate, 1e-9);
-      const double eta_steady = s.schedule->eta_steady(t);
-      std::ostringstream line;
-      line << std::fixed << std::setprecision(4) << "t=" << t << " Ca=" << s.schedule->ca(t)
-           << " D=" << m.shape.D << " " << std::setprecision(1) << rate << " steps/s, ETA "
-           << std::setprecision(0) << eta << " s to t_end";
-      if (eta_steady >= 0) line << std::setprecision(2) << ", steady in ~" << eta_steady << " (sim. time)";
-      if (s.tty)
-        std::cerr << "\r\033[K" << line.str() << std::flush;
-      else
-        s.say(line.str());
-    }
-    if (stop_at_steady) {
-      reason = "steady state of the final level (steady.stop)";
-      break;
-    }
-  }
-  m = s.measure(true);
+  Observation last;
   try {
+    s.announce(fresh);
+    last.m = s.measure(true);
+    last.measured = true;
+    if (fresh) {
+      s.pending.row = true;
+      s.pending.frame = s.opt.output.frame_every > 0;
+      s.pending.vtk = s.opt.output.vtk_every > 0;
+      s.pending_ca = s.schedule->ca(s.t());
+      s.write_due(last.m, s.pending_ca);
+      s.write_checkpoint("start");
+    } else {
+      s.write_pending();
+    }
+    for (;;) {
+      s.apply_edits();
+      if (stop && stop->load()) {
+        reason = "stopped by signal";
+        break;
+      }
+      if (s.opt.run.state == control::RunState::Stopped) {
+        reason = "run.state is \"stopped\"";
+        break;
+      }
+      if (s.paused(progress)) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+        continue;
+      }
+      const double dt = s.opt.time.dt;
+      if (s.t() >= s.opt.time.t_end - 0.5 * dt) break;
+      const StepOutcome step = s.advance(dt);
+      if (!step.failure.empty()) {
+        sum.failed = true;
+        sum.failure = step.failure;
+        s.say("failure: " + step.failure +
+              " (keeping the last good state, t = " + std::to_string(s.t()) + ")");
+        s.event(Record().set("event", "failure").set("message", step.failure));
+        reason = "failure";
+        break;
+      }
+      const Due due = s.cadence->due(s.t(), dt);
+      const double D_before = last.m.shape.D;
+      Observation ob = s.observe(due, dt);
+      sum.steady_states += ob.schedule.steady;
+      const bool stop_here = s.emit(ob, due);
+      if (ob.measured) last = ob;
+      s.report_progress(progress, ob, D_before);
+      if (stop_here) {
+        reason = "steady state of the final level (steady.stop)";
+        break;
+      }
+    }
     s.write_checkpoint(reason);
-  } catch (const std::exception& e) {
-    s.say(std::string("warning: final checkpoint failed: ") + e.what());
+    if (s.renderer) {
+      const render::RenderStats rs = s.renderer->stop();
+      std::ostringstream r;
+      r << "renderer: " << rs.movie_frames << " movie frames written, solver waited "
+        << rs.producer_waits << " times for the renderer";
+      const std::string err = s.renderer->error();
+      s.renderer.reset();
+      s.say(r.str());
+      if (!err.empty()) throw OutputError("frames could not be written: " + err);
+    }
+  } catch (const OutputError& e) {
+    sum.output_failed = true;
+    sum.failure = e.what();
+    reason = "output failure";
+    s.best_effort([&] { s.say(std::string("output failure: ") + e.what()); });
+    s.best_effort([&] {
+      s.event(Record().set("event", "failure").set("message", e.what()).set("cause", "output"));
+    });
+    // The state is good: keep it if the disk still takes a checkpoint; otherwise the last one
+    // written stays the one to resume from.
+    std::string kept = Simulation::latest_checkpoint(s.dir->path().string());
+    try {
+      s.write_checkpoint("output failure");
+      kept = Simulation::latest_checkpoint(s.dir->path().string());
+    } catch (const OutputError& e2) {
+      s.best_effort([&] { s.say(std::string("final checkpoint not written: ") + e2.what()); });
+    }
+    s.best_effort([&] {
+      s.say(kept.empty() ? "no checkpoint to resume from"
+                         : "resume with: capflow run --resume " + s.dir->path().string() +
+                               " (from " + kept + ")");
+    });
+    if (s.renderer) {
+      s.renderer->stop();
+      s.renderer.reset();
+    }
   }
-  if (s.renderer) {
-    const render::RenderStats rs = s.renderer->stop();
-    std::ostringstream r;
-    r << "renderer: " << rs.movie_frames << " movie frames written, solver waited "
-      << rs.producer_waits << " times for the renderer";
-    if (!s.renderer->error().empty()) r << "; error: " << s.renderer->error();
-    s.say(r.str());
-    s.renderer.reset();
-  }
+  const Measures m = s.measure(true);
   sum.reason = reason;
-  sum.t = s.cap->time();
+  sum.t = s.t();
   sum.steps = s.cap->step_count();
   sum.wall_s = s.wall();
   sum.D = m.shape.D;
@@ -718,12 +846,22 @@ RunSummary Simulation::run(const std::atomic<bool>* stop) {
   std::ostringstream fin;
   fin << "end (" << reason << "): t=" << sum.t << " steps=" << sum.steps << " wall=" << std::fixed
       << std::setprecision(1) << sum.wall_s << " s, D=" << std::setprecision(5) << sum.D
-      << " L=" << sum.L << " S=" << sum.S << " W=" << sum.W << ", volume drift "
-      << std::scientific << std::setprecision(2) << sum.volume_drift << ", steady states "
-      << s.steady_rows;
-  s.say(fin.str());
-  s.event({{"event", "end"}, {"reason", reason}, {"steps", sum.steps}, {"D", sum.D}, {"L", sum.L},
-           {"S", sum.S}, {"W", sum.W}, {"volume_drift", sum.volume_drift}, {"wall_s", sum.wall_s}});
+      << " L=" << sum.L << " S=" << sum.S << " W=" << sum.W << ", volume drift " << std::scientific
+      << std::setprecision(2) << sum.volume_drift << ", steady states " << s.steady_rows;
+  s.best_effort([&] { s.say(fin.str()); });
+  s.best_effort([&] {
+    s.event(Record()
+                .set("event", "end")
+                .set("reason", reason)
+                .set("exit_code", sum.exit_code())
+                .set("steps", sum.steps)
+                .set("D", sum.D)
+                .set("L", sum.L)
+                .set("S", sum.S)
+                .set("W", sum.W)
+                .set("volume_drift", sum.volume_drift)
+                .set("wall_s", sum.wall_s));
+  });
   return sum;
 }
 

@@ -13,35 +13,27 @@
 #include <vector>
 
 #include "capsule/capsule.h"
+#include "control/control_error.h"
 #include "control/options.h"
 
 namespace capflow::control {
-
-struct ControlIssue {
-  std::string path;     // JSON path, "" for the whole document
-  std::string message;  // what is wrong, the value, and what is valid
-  std::string str() const { return path.empty() ? message : path + ": " + message; }
-};
-
-class ControlError : public std::runtime_error {
- public:
-  ControlError(const std::string& source, std::vector<ControlIssue> issues);
-  const std::vector<ControlIssue>& issues() const { return issues_; }
-
- private:
-  std::vector<ControlIssue> issues_;
-};
 
 struct ParsedControl {
   ControlOptions options;
   std::vector<ControlIssue> warnings;
 };
 
-// Parses and validates a control document. `source` names it in error messages.
-// Throws ControlError listing every problem.
+// Parses and validates a control document (the schema of control/schema.h, the limits of
+// control/limits.h). `source` names it in error messages. Throws ControlError listing every
+// problem.
 ParsedControl parse_control(const std::string& text, const std::string& source = "control file");
-// Reads the file first (ControlError if it cannot be read).
+// Reads the file first through control/json_input.h's gate (a regular file, at most
+// kMaxControlBytes, never blocking): ControlError if it cannot be read.
 ParsedControl load_control_file(const std::string& path);
+
+// Problems of t_end for a run at time t_now (0 for a new run): t_end at least half a step past
+// t_now (fresh runs: at least dt), and at most kMaxSteps steps to go. Paths are "time.t_end".
+std::vector<ControlIssue> time_issues(const TimeOptions& time, double t_now);
 
 // The effective control file (every key with its value, defaults filled in), as JSON text.
 std::string to_json_text(const ControlOptions& options);

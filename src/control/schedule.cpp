@@ -9,30 +9,78 @@
 namespace capflow::control {
 
 namespace {
-double sgn(double v) { return v > 0 ? 1.0 : (v < 0 ? -1.0 : 0.0); }
+double sgn(double v) {
+  return v > 0 ? 1.0 : (v < 0 ? -1.0 : 0.0);
 }
 
-CaScheduler::CaScheduler(const CaSchedule& schedule, const SteadyOptions& steady, double t0)
+bool same_segment(const CaSegment& a, const CaSegment& b) {
+  if (a.kind != b.kind) return false;
+  const bool same_hold =
+      a.until_steady == b.until_steady && (a.until_steady || a.hold_time == b.hold_time);
+  switch (a.kind) {
+    case CaSegment::Kind::Hold:
+      return a.ca == b.ca && same_hold;
+    case CaSegment::Kind::Ramp:
+      return a.to == b.to && a.rate == b.rate;
+    case CaSegment::Kind::Steps:
+      return a.to == b.to && a.by == b.by && same_hold;
+  }
+  return false;
+}
+
+std::string held(const CaSegment& s) {
+  std::ostringstream m;
+  if (s.until_steady)
+    m << "held until steady";
+  else
+    m << "held for " << s.hold_time;
+  return m.str();
+}
+
+// Levels still to come in a Steps segment from `level` (not counting it).
+int levels_left(const CaSegment& s, double level) {
+  if (level == s.to) return 0;
+  return static_cast<int>(std::ceil(std::abs(s.to - level) / s.by - 1e-12));
+}
+}  // namespace
+
+CaScheduler::CaScheduler(const CaSchedule& schedule, const SteadyOptions& steady, double t0,
+                         std::optional<double> initial_ca)
     : schedule_(schedule), steady_(steady) {
-  level_ = schedule_.segments.empty() ? 0.0 : schedule_.segments[0].ca;
+  if (!initial_ca && !schedule_.segments.empty() &&
+      schedule_.segments[0].kind == CaSegment::Kind::Ramp)
+    throw std::invalid_argument(
+        "ca[0]: a schedule that begins with a ramp continues from the current Ca, and a run from "
+        "rest has none (the ramp would start at Ca = 0, where the flow is singular): put a "
+        "{\"ca\": x} segment first, or start from another run (start.from)");
+  level_ = initial_ca.value_or(0.0);
   start_segment(0, t0);
+}
+
+void CaScheduler::reset_samples() {
+  samples_.clear();
+  rate_ = std::numeric_limits<double>::infinity();
+  prev_rate_ = -1;
 }
 
 void CaScheduler::start_segment(int index, double t) {
   segment_ = index;
   level_start_ = t;
   step_index_ = 0;
-  samples_.clear();
-  rate_ = std::numeric_limits<double>::infinity();
-  prev_rate_ = -1;
+  reset_samples();
   if (index >= static_cast<int>(schedule_.segments.size())) return;  // final hold of level_
+  final_reported_ = false;
   const CaSegment& s = schedule_.segments[index];
   switch (s.kind) {
-    case CaSegment::Kind::Hold: level_ = s.ca; break;
-    case CaSegment::Kind::Ramp: break;  // ramps from the current level
+    case CaSegment::Kind::Hold:
+      level_ = s.ca;
+      break;
+    case CaSegment::Kind::Ramp:
+      break;  // ramps from the current level
     case CaSegment::Kind::Steps:
       step_index_ = 1;
-      level_ = (std::abs(s.to - level_) <= s.by) ? s.to : level_ + sgn(s.to - level_) * s.by;
+      level_ = (std::abs(s.to - level_) <= s.by * (1 + 1e-12)) ? s.to
+                                                               : level_ + sgn(s.to - level_) * s.by;
       break;
   }
 }
@@ -48,16 +96,40 @@ double CaScheduler::ca(double t) const {
 void CaScheduler::next_level(double t) {
   const CaSegment& s = schedule_.segments[segment_];
   if (s.kind == CaSegment::Kind::Steps && level_ != s.to) {
-    level_ = (std::abs(s.to - level_) <= s.by * (1 + 1e-12)) ? s.to : level_ + sgn(s.to - level_) * s.by;
+    level_ =
+        (std::abs(s.to - level_) <= s.by * (1 + 1e-12)) ? s.to : level_ + sgn(s.to - level_) * s.by;
     ++step_index_;
     level_start_ = t;
-    samples_.clear();
-    rate_ = std::numeric_limits<double>::infinity();
-    prev_rate_ = -1;
+    reset_samples();
     return;
   }
   if (s.kind == CaSegment::Kind::Ramp) level_ = s.to;
   start_segment(segment_ + 1, t);
+}
+
+std::string CaScheduler::describe(double t) const {
+  std::ostringstream m;
+  if (in_final_hold()) {
+    m << "schedule complete: Ca = " << level_ << " held until t_end";
+    return m.str();
+  }
+  const CaSegment& s = schedule_.segments[segment_];
+  switch (s.kind) {
+    case CaSegment::Kind::Hold:
+      m << "Ca = " << level_ << ", " << held(s);
+      break;
+    case CaSegment::Kind::Ramp: {
+      const double c = ca(t);
+      m << "ramp from Ca = " << c << " to " << s.to << " at " << s.rate << " per unit time";
+      if (c != s.to) m << " (reaching it at t = " << t + std::abs(s.to - c) / s.rate << ")";
+      break;
+    }
+    case CaSegment::Kind::Steps:
+      m << "Ca = " << level_ << ", step " << step_index_ << " of "
+        << step_index_ + levels_left(s, level_) << " towards " << s.to << ", " << held(s);
+      break;
+  }
+  return m.str();
 }
 
 CaScheduler::Event CaScheduler::sample(double t, double L, double S, double W) {
@@ -75,13 +147,15 @@ CaScheduler::Event CaScheduler::sample(double t, double L, double S, double W) {
     }
     rate_ = r;
   }
-  const bool held = t - level_start_ >= std::max(steady_.min_hold, steady_.window) * (1 - 1e-9);
-  const bool steady = held && rate_ < steady_.tolerance;
+  const bool held_long =
+      t - level_start_ >= std::max(steady_.min_hold, steady_.window) * (1 - 1e-9);
+  const bool steady = held_long && rate_ < steady_.tolerance;
 
   if (in_final_hold()) {
     if (steady && !final_reported_) {
       final_reported_ = true;
       ev.steady = true;
+      ev.steady_ca = level_;
       std::ostringstream d;
       d << "steady state at Ca = " << level_ << " (t = " << t << ")";
       ev.description = d.str();
@@ -95,22 +169,23 @@ CaScheduler::Event CaScheduler::sample(double t, double L, double S, double W) {
   } else if (s.until_steady) {
     done = steady;
     ev.steady = steady;
+    ev.steady_ca = level_;
   } else {
     done = t - level_start_ >= s.hold_time * (1 - 1e-12);
   }
   if (done) {
-    const double old = (s.kind == CaSegment::Kind::Ramp) ? s.to : level_;
     std::ostringstream d;
-    if (ev.steady) d << "steady state at Ca = " << old << " (t = " << t << "); ";
+    if (ev.steady)
+      d << "steady state at Ca = " << level_ << " (t = " << t << ")";
+    else if (s.kind == CaSegment::Kind::Ramp)
+      d << "ramp reached Ca = " << s.to << " (t = " << t << ")";
+    else
+      d << "Ca = " << level_ << " held for " << s.hold_time << " (t = " << t << ")";
     next_level(t);
     ev.level_changed = true;
-    if (in_final_hold()) {
-      d << "schedule complete, holding Ca = " << level_;
-      // A final hold reached by a steady state has already been reported.
-      if (ev.steady) final_reported_ = true;
-    } else {
-      d << "Ca -> " << ca(t);
-    }
+    // A final hold reached by a steady state has already been reported.
+    if (in_final_hold() && ev.steady) final_reported_ = true;
+    d << "; next: " << describe(t);
     ev.description = d.str();
   }
   return ev;
@@ -120,32 +195,78 @@ double CaScheduler::eta_steady(double t) const {
   if (!std::isfinite(rate_) || prev_rate_ <= 0 || !std::isfinite(prev_rate_)) return -1;
   if (rate_ < steady_.tolerance) return 0;
   if (rate_ >= prev_rate_) return -1;
-  const double decay = std::log(prev_rate_ / rate_) / std::max(1e-12, t - prev_rate_t_ + steady_.window);
+  const double decay =
+      std::log(prev_rate_ / rate_) / std::max(1e-12, t - prev_rate_t_ + steady_.window);
   if (decay <= 0) return -1;
   return std::log(rate_ / steady_.tolerance) / decay;
 }
 
-void CaScheduler::replace(const CaSchedule& schedule, const SteadyOptions& steady, double t) {
+std::string CaScheduler::edit(const CaSchedule& next, double t) {
   const double current = ca(t);
-  schedule_ = schedule;
-  steady_ = steady;
+  const CaSchedule old = schedule_;
+  const int k = segment_;  // the running segment (== old size in the final hold)
+  const bool prefix_kept = static_cast<int>(next.segments.size()) >= k &&
+                           std::equal(old.segments.begin(), old.segments.begin() + k,
+                                      next.segments.begin(), same_segment);
+  schedule_ = next;
+  std::ostringstream m;
+  if (!prefix_kept) {
+    level_ = current;
+    start_segment(0, t);
+    m << "new schedule from Ca = " << current << ": " << describe(t);
+    return m.str();
+  }
+  if (k >= static_cast<int>(next.segments.size())) {
+    // The running segment was removed (or the schedule was complete and stays so): hold here.
+    if (k < static_cast<int>(old.segments.size())) {
+      level_ = current;
+      segment_ = k;
+      level_start_ = t;
+      reset_samples();
+    }
+    m << describe(t);
+    return m.str();
+  }
+  const CaSegment& s = next.segments[k];
+  if (k < static_cast<int>(old.segments.size()) && old.segments[k].kind == s.kind) {
+    switch (s.kind) {
+      case CaSegment::Kind::Hold:
+        if (s.ca != level_) {
+          level_ = s.ca;
+          level_start_ = t;
+          reset_samples();
+        }
+        break;
+      case CaSegment::Kind::Ramp:
+        level_ = current;
+        level_start_ = t;
+        break;
+      case CaSegment::Kind::Steps:
+        break;  // the level held goes on; later levels use the new by/to
+    }
+    m << "the running segment goes on: " << describe(t);
+    return m.str();
+  }
   level_ = current;
-  final_reported_ = false;
-  start_segment(0, t);
+  start_segment(k, t);
+  m << describe(t);
+  return m.str();
 }
 
 std::vector<double> CaScheduler::state() const {
-  std::vector<double> v = {static_cast<double>(segment_), level_, level_start_,
-                           static_cast<double>(step_index_), final_reported_ ? 1.0 : 0.0, rate_,
-                           prev_rate_, prev_rate_t_, static_cast<double>(samples_.size())};
+  std::vector<double> v = {
+      static_cast<double>(segment_),       level_, level_start_, static_cast<double>(step_index_),
+      final_reported_ ? 1.0 : 0.0,         rate_,  prev_rate_,   prev_rate_t_,
+      static_cast<double>(samples_.size())};
   for (const Sample& s : samples_) v.insert(v.end(), {s.t, s.L, s.S, s.W});
   return v;
 }
 
 void CaScheduler::restore(const std::vector<double>& v) {
-  if (v.size() < 9 || v.size() != 9 + 4 * static_cast<size_t>(v[8]))
-    throw std::invalid_argument("schedule state: malformed (" + std::to_string(v.size()) + " values)");
-  if (v[0] < 0 || v[0] > static_cast<double>(schedule_.segments.size()))
+  if (v.size() < 9 || !(v[8] >= 0 && v[8] <= 1e9) || v.size() != 9 + 4 * static_cast<size_t>(v[8]))
+    throw std::invalid_argument("schedule state: malformed (" + std::to_string(v.size()) +
+                                " values)");
+  if (!(v[0] >= 0 && v[0] <= static_cast<double>(schedule_.segments.size())))
     throw std::invalid_argument("schedule state: segment index " + std::to_string(v[0]) +
                                 " does not fit the schedule (" +
                                 std::to_string(schedule_.segments.size()) + " segments)");

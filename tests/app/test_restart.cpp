@@ -4,6 +4,7 @@
 
 #include <cstring>
 
+#include "app/errors.h"
 #include "app/simulation.h"
 #include "control/control_file.h"
 #include "output/checkpoint.h"
@@ -68,18 +69,67 @@ TEST(Restart, RefusesMissingAndCorruptCheckpoints) {
   try {
     app::Simulation::resume(d.string(), {});
     FAIL();
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("no checkpoint"), std::string::npos);
+  } catch (const app::UserError& e) {
+    EXPECT_NE(std::string(e.what()).find("not a capflow run directory"), std::string::npos) << e.what();
+  }
+  test::write_file(d / "control.json", "{}");
+  test::write_file(d / "events.jsonl", "");
+  try {
+    app::Simulation::resume(d.string(), {});
+    FAIL();
+  } catch (const app::UserError& e) {
+    EXPECT_NE(std::string(e.what()).find("no checkpoint"), std::string::npos) << e.what();
   }
   fs::create_directories(d / "checkpoints");
   test::write_file(d / "checkpoints" / "ckpt_0000000001.ckpt", "garbage");
   try {
     app::Simulation::resume(d.string(), {});
     FAIL();
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("not a capflow checkpoint"), std::string::npos);
+  } catch (const app::UserError& e) {
+    EXPECT_NE(std::string(e.what()).find("not a capflow checkpoint"), std::string::npos) << e.what();
   }
   fs::remove_all(d);
+}
+
+// A corrupt newest checkpoint: the resume falls back to the newest one that reads, says so, and
+// the files continue consistently from it (the time series equals an uninterrupted run's).
+TEST(Restart, CorruptNewestCheckpointFallsBackToTheNewestValidOne) {
+  const fs::path a = test::fresh_dir("fallback_full"), b = test::fresh_dir("fallback");
+  {
+    app::Simulation sim(options(a, 0.08), "");
+    ASSERT_EQ(sim.run().steps, 20);
+  }
+  {
+    control::ControlOptions o = options(b, 0.08);
+    o.output.checkpoint_every = 0.02;
+    app::Simulation sim(o, "");
+    ASSERT_EQ(sim.run().steps, 20);
+  }
+  const std::string newest = app::Simulation::latest_checkpoint(b.string());
+  std::string bytes = test::read_file(newest);
+  bytes[bytes.size() / 2] ^= 0x5a;
+  test::write_file(newest, bytes);
+  {
+    app::ResumeOverrides ov;
+    ov.t_end = 0.08;
+    auto sim = app::Simulation::resume(b.string(), ov);
+    const app::RunSummary s = sim->run();
+    EXPECT_EQ(s.steps, 20);
+    EXPECT_FALSE(s.failed);
+  }
+  const std::string log = test::read_file(b / "run.log");
+  EXPECT_NE(log.find("skipped a checkpoint that does not read"), std::string::npos) << log;
+  EXPECT_NE(log.find("checksum mismatch"), std::string::npos) << log;
+  auto strip = [](std::vector<std::string> v) {
+    for (auto& l : v) l = l.substr(0, l.rfind(','));
+    return v;
+  };
+  EXPECT_EQ(strip(test::lines_of(a / "timeseries.csv")), strip(test::lines_of(b / "timeseries.csv")));
+  const std::vector<double> xa = final_x(a), xb = final_x(b);
+  ASSERT_EQ(xa.size(), xb.size());
+  EXPECT_EQ(std::memcmp(xa.data(), xb.data(), xa.size() * sizeof(double)), 0);
+  fs::remove_all(a);
+  fs::remove_all(b);
 }
 
 TEST(SteadyStop, RunEndsAtTheSteadyStateOfTheFinalLevel) {
@@ -200,14 +250,14 @@ TEST(StartFrom, MissingSourcesAreRefusedNamingTheField) {
     o.start.from = from;
     try {
       app::Simulation sim(o, "");
-    } catch (const std::runtime_error& e) {
+    } catch (const app::UserError& e) {
       return std::string(e.what());
     }
     return std::string("no error");
   };
   EXPECT_NE(message((empty / "nowhere").string()).find("start.from: "), std::string::npos);
   EXPECT_NE(message((empty / "nowhere").string()).find("no such run directory"), std::string::npos);
-  EXPECT_NE(message(empty.string()).find("has no checkpoint"), std::string::npos);
+  EXPECT_NE(message(empty.string()).find("no checkpoint in checkpoints/"), std::string::npos);
   // This run's own directory (or a checkpoint in it) is refused before its outputs are touched.
   test::write_file(d / "timeseries.csv", "keep");
   EXPECT_NE(message(d.string()).find("this run's own directory"), std::string::npos);

@@ -18,9 +18,7 @@
 #include <vector>
 #include <nlohmann/json.hpp>
 
-#include "test_util.h"
-
-extern char** environ;
+#include "process_util.h"
 
 using namespace capflow;
 namespace fs = std::filesystem;
@@ -28,50 +26,16 @@ using json = nlohmann::json;
 
 namespace {
 
-pid_t spawn(const std::vector<std::string>& args, const fs::path& log) {
-  std::vector<char*> argv;
-  for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t fa;
-  posix_spawn_file_actions_init(&fa);
-  posix_spawn_file_actions_addopen(&fa, 2, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
-  pid_t pid = -1;
-  EXPECT_EQ(posix_spawn(&pid, argv[0], &fa, nullptr, argv.data(), environ), 0);
-  posix_spawn_file_actions_destroy(&fa);
-  return pid;
-}
+using test::count_events;
+using test::csv_rows;
+using test::events;
+using test::spawn;
+using test::wait_exit;
 
-int wait_exit(pid_t pid, double seconds) {
-  int status = 0;
-  const bool done = test::wait_for([&] { return waitpid(pid, &status, WNOHANG) == pid; }, seconds);
-  if (!done) {
-    kill(pid, SIGKILL);
-    waitpid(pid, &status, 0);
-    return -1;
-  }
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-}
-
-std::vector<json> events(const fs::path& run) {
-  std::vector<json> out;
-  for (const auto& l : test::lines_of(run / "events.jsonl"))
-    if (!l.empty()) out.push_back(json::parse(l));
-  return out;
-}
-
-int count_events(const fs::path& run, const std::string& kind) {
-  int n = 0;
-  for (const auto& e : events(run)) n += e["event"] == kind;
-  return n;
-}
-
-long csv_rows(const fs::path& p) { return static_cast<long>(test::lines_of(p).size()) - 1; }
-
-std::string control(double ca, const std::string& extra = "") {
+std::string control(double ca, const std::string& extra = "", const std::string& numerics = "") {
   return R"({"capsule": {"law": "skalak"}, "mesh": {"elements": 6, "nb": 6},
     "time": {"dt": 0.002, "t_end": 1000}, "ca": )" + std::to_string(ca) +
-         R"(, "output": {"dir": "run", "csv_every": 0.002}, "numerics": {"threads": 1})" + extra + "}";
+         R"(, "output": {"dir": "run", "csv_every": 0.002}, "numerics": {"threads": 1)" + numerics + "}" + extra + "}";
 }
 
 }  // namespace
@@ -136,11 +100,11 @@ TEST(Steering, VolumeCorrectionSwitchedOnMidRunHoldsTheVolume) {
   test::write_file(ctl, control(0.3));
   const pid_t pid = spawn({CAPFLOW_EXE, "run", ctl.string(), "-o", run.string()}, d / "stderr.log");
   ASSERT_TRUE(test::wait_for([&] { return csv_rows(run / "timeseries.csv") >= 25; }, 60));
-  test::write_file(ctl, control(0.3, R"(, "numerics": {"threads": 1, "volume_correction": true})"));
+  test::write_file(ctl, control(0.3, "", R"(, "volume_correction": true)"));
   ASSERT_TRUE(test::wait_for([&] { return count_events(run, "edit") >= 1; }, 10)) << test::read_file(d / "stderr.log");
   const long rows_after_edit = csv_rows(run / "timeseries.csv");
   ASSERT_TRUE(test::wait_for([&] { return csv_rows(run / "timeseries.csv") > rows_after_edit + 10; }, 30));
-  test::write_file(ctl, control(0.3, R"(, "numerics": {"threads": 1, "volume_correction": true}, "run": {"state": "stopped"})"));
+  test::write_file(ctl, control(0.3, R"(, "run": {"state": "stopped"})", R"(, "volume_correction": true)"));
   EXPECT_EQ(wait_exit(pid, 30), 0) << test::read_file(d / "stderr.log");
 
   double t_edit = -1;

@@ -1,0 +1,34 @@
+// capflow/app/errors: the error classes of the capflow executable and their exit codes.
+//
+//   0  success
+//   2  invalid input: control file, command line, start.from, output directory, checkpoint
+//      (UserError; the message names the file, key or option, the bad value and what is valid)
+//   3  internal error (a bug: anything that is not one of the others)
+//   4  the simulation failed (health check or solver; the last good state is checkpointed)
+//   5  a run file could not be written (OutputError: disk full, file too large, permissions;
+//      the message names the file; the last good checkpoint is kept, and --resume continues
+//      with consistent files once the cause is removed)
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+namespace capflow::app {
+
+namespace exit_code {
+constexpr int kOk = 0;
+constexpr int kUserError = 2;
+constexpr int kInternal = 3;
+constexpr int kSimulationFailed = 4;
+constexpr int kOutputFailed = 5;
+}  // namespace exit_code
+
+struct UserError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct OutputError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+}  // namespace capflow::app

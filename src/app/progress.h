@@ -1,0 +1,35 @@
+// capflow/app/progress: the progress line of `capflow run` (stderr; at most once per second on a
+// terminal, every 10 s into logs). Rates count running time only: time spent paused
+// (run.state "paused") is left out of steps/s and the ETA.
+#pragma once
+
+#include <functional>
+#include <string>
+
+namespace capflow::app {
+
+class Progress {
+ public:
+  using Clock = std::function<double()>;  // seconds, monotonic
+  // `clock`: steady_clock by default (tests pass their own).
+  explicit Progress(bool tty, Clock clock = nullptr);
+  void start(long steps);  // the session starts with this step count
+  void pause();
+  void unpause();
+  // True when the next line is due (and marks it as printed).
+  bool due();
+  // Steps per second of running (unpaused) time in this session.
+  double rate(long steps) const;
+  bool tty() const { return tty_; }
+
+ private:
+  double running_seconds() const;
+  bool tty_;
+  Clock clock_;
+  double start_ = 0, paused_at_ = 0, last_line_ = 0;
+  bool paused_ = false, printed_ = false;
+  double paused_seconds_ = 0;
+  long steps_at_start_ = 0;
+};
+
+}  // namespace capflow::app

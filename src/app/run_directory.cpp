@@ -1,0 +1,256 @@
+#include "app/run_directory.h"
+
+#include <fcntl.h>
+#include <sys/file.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+
+#include "app/errors.h"
+
+namespace capflow::app {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kLockName = "run.lock";
+
+// Files and folders a run creates (what --overwrite removes; nothing else is touched).
+const char* const kRunFiles[] = {"control.json",   "control.json.tmp", "control.source",
+                                 "timeseries.csv", "steady.csv",       "events.jsonl",
+                                 "run.log",        "surface.pvd",      "preview.png"};
+const char* const kRunFolders[] = {"checkpoints", "frames", "profiles", "vtk"};
+
+std::string errno_text() {
+  return std::strerror(errno);
+}
+
+[[noreturn]] void write_failed(const fs::path& p, const std::string& why) {
+  throw OutputError("cannot write " + p.string() + ": " + why);
+}
+
+// Writes all of `data` or reports the errno of the failed write (0 when a write returned 0).
+bool write_all(int fd, const char* data, size_t n, int* err) {
+  while (n > 0) {
+    const ssize_t w = ::write(fd, data, n);
+    if (w < 0 && errno == EINTR) continue;
+    if (w <= 0) {
+      *err = w < 0 ? errno : ENOSPC;
+      return false;
+    }
+    data += w;
+    n -= static_cast<size_t>(w);
+  }
+  return true;
+}
+
+bool is_empty_but_lock(const fs::path& dir) {
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec))
+    if (e.path().filename() != kLockName) return false;
+  return !ec;
+}
+
+}  // namespace
+
+AppendFile::~AppendFile() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+void AppendFile::open(const fs::path& path, bool truncate) {
+  if (fd_ >= 0) ::close(fd_);
+  path_ = path;
+  fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC | (truncate ? O_TRUNC : 0),
+               0644);
+  if (fd_ < 0) write_failed(path, errno_text());
+}
+
+void AppendFile::append(const std::string& record) {
+  if (fd_ < 0) write_failed(path_, "the file is not open");
+  const off_t before = ::lseek(fd_, 0, SEEK_END);
+  int err = 0;
+  if (write_all(fd_, record.data(), record.size(), &err)) return;
+  // Cut back what part of the record reached the file: never half a row.
+  if (before >= 0 && ::ftruncate(fd_, before) != 0) {
+    write_failed(path_, std::string(std::strerror(err)) +
+                            " (and it could not be cut back to its last whole record: " +
+                            errno_text() + ")");
+  }
+  write_failed(path_, std::strerror(err));
+}
+
+void AppendFile::keep_lines(long lines) {
+  const int fd = ::open(path_.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) write_failed(path_, errno_text());
+  off_t keep = 0;
+  long seen = 0;
+  char buf[65536];
+  while (seen < lines) {
+    const ssize_t n = ::read(fd, buf, sizeof buf);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;
+    for (ssize_t i = 0; i < n && seen < lines; ++i) {
+      ++keep;
+      if (buf[i] == '\n') ++seen;
+    }
+  }
+  ::close(fd);
+  if (seen < lines)
+    throw UserError(path_.string() + " has " + std::to_string(seen) +
+                    " whole lines, fewer than the " + std::to_string(lines) +
+                    " its checkpoint recorded: the file does not belong to "
+                    "this run's checkpoints");
+  if (::truncate(path_.c_str(), keep) != 0) write_failed(path_, errno_text());
+}
+
+RunDirectory::~RunDirectory() {
+  if (lock_fd_ >= 0) ::close(lock_fd_);  // releases the flock
+}
+
+bool RunDirectory::is_run(const fs::path& dir) {
+  std::error_code ec;
+  return fs::is_regular_file(dir / "control.json", ec) &&
+         (fs::is_regular_file(dir / "events.jsonl", ec) ||
+          fs::is_directory(dir / "checkpoints", ec));
+}
+
+std::unique_ptr<RunDirectory> RunDirectory::open(const fs::path& dir, Mode mode) {
+  std::unique_ptr<RunDirectory> r(new RunDirectory());
+  r->dir_ = dir;
+  std::error_code ec;
+  const bool exists = fs::exists(dir, ec);
+  if (exists && !fs::is_directory(dir, ec))
+    throw UserError("run directory " + dir.string() + " exists and is not a directory");
+  if (mode == Mode::Resume) {
+    if (!exists) throw UserError(dir.string() + ": no such run directory");
+    if (!is_run(dir))
+      throw UserError(dir.string() +
+                      " is not a capflow run directory (no control.json with "
+                      "events.jsonl or checkpoints/)");
+  } else if (exists && !is_empty_but_lock(dir)) {
+    if (!is_run(dir))
+      throw UserError("run directory " + dir.string() +
+                      " is not empty and is not a capflow run: "
+                      "give a new or empty directory (output.dir or -o)");
+    if (mode == Mode::Create)
+      throw UserError("run directory " + dir.string() +
+                      " already holds a capflow run: continue it "
+                      "with --resume " +
+                      dir.string() + ", or replace it with --overwrite");
+  }
+  if (!exists) {
+    fs::create_directories(dir, ec);
+    if (ec)
+      throw UserError("cannot create the run directory " + dir.string() + ": " + ec.message());
+  }
+  r->lock(mode);
+  if (mode == Mode::Overwrite) r->remove_run_files();
+  return r;
+}
+
+void RunDirectory::lock(Mode mode) {
+  const fs::path p = dir_ / kLockName;
+  lock_fd_ = ::open(p.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (lock_fd_ < 0)
+    throw UserError("cannot open the lock file " + p.string() +
+                    " of the run directory: " + errno_text());
+  if (::flock(lock_fd_, LOCK_EX | LOCK_NB) != 0) {
+    const int err = errno;
+    char buf[32] = {0};
+    const ssize_t n = ::pread(lock_fd_, buf, sizeof buf - 1, 0);
+    const std::string pid =
+        n > 0 ? std::string(buf, static_cast<size_t>(n)) : std::string("unknown");
+    ::close(lock_fd_);
+    lock_fd_ = -1;
+    if (err != EWOULDBLOCK)
+      throw UserError("cannot lock the run directory " + dir_.string() + ": " + std::strerror(err));
+    std::string holder = pid;
+    holder.erase(std::remove_if(holder.begin(), holder.end(), [](char c) { return c == '\n'; }),
+                 holder.end());
+    throw UserError("run directory " + dir_.string() +
+                    " is in use by another capflow process (PID " + holder + ")" +
+                    (mode == Mode::Resume ? ": a run can be resumed once it has ended"
+                                          : ": wait for it to end, or stop it first"));
+  }
+  const std::string pid = std::to_string(::getpid()) + "\n";
+  if (::ftruncate(lock_fd_, 0) != 0 || ::pwrite(lock_fd_, pid.data(), pid.size(), 0) < 0)
+    write_failed(dir_ / kLockName, errno_text());
+}
+
+void RunDirectory::remove_run_files() const {
+  std::error_code ec;
+  for (const char* f : kRunFiles) fs::remove(dir_ / f, ec);
+  for (const char* d : kRunFolders) fs::remove_all(dir_ / d, ec);
+  for (const auto& e : fs::directory_iterator(dir_, ec)) {
+    const std::string name = e.path().filename().string();
+    if (name.rfind("movie", 0) == 0 && e.path().extension() == ".mp4") fs::remove(e.path(), ec);
+  }
+}
+
+void RunDirectory::open_records(bool fresh, const std::string& timeseries_header,
+                                const std::string& steady_header) {
+  timeseries_.open(dir_ / "timeseries.csv", fresh);
+  steady_.open(dir_ / "steady.csv", fresh);
+  events_.open(dir_ / "events.jsonl", fresh);
+  log_.open(dir_ / "run.log", fresh);
+  if (fresh) {
+    timeseries_.append(timeseries_header);
+    steady_.append(steady_header);
+  }
+}
+
+void RunDirectory::write_text(const std::string& name, const std::string& text) const {
+  const fs::path final_path = dir_ / name, tmp = dir_ / (name + ".tmp");
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) write_failed(tmp, errno_text());
+  int err = 0;
+  const bool ok = write_all(fd, text.data(), text.size(), &err);
+  if (::close(fd) != 0 && ok) err = errno;
+  if (!ok || err != 0) {
+    ::unlink(tmp.c_str());
+    write_failed(final_path, std::strerror(err));
+  }
+  if (std::rename(tmp.c_str(), final_path.c_str()) != 0) {
+    const std::string why = errno_text();
+    ::unlink(tmp.c_str());
+    write_failed(final_path, why);
+  }
+}
+
+fs::path RunDirectory::subdirectory(const std::string& name) const {
+  const fs::path p = dir_ / name;
+  std::error_code ec;
+  fs::create_directories(p, ec);
+  if (ec) write_failed(p, ec.message());
+  return p;
+}
+
+fs::path RunDirectory::checkpoint_path(long steps) const {
+  char name[64];
+  std::snprintf(name, sizeof name, "ckpt_%010ld.ckpt", steps);
+  return dir_ / "checkpoints" / name;
+}
+
+std::vector<fs::path> RunDirectory::checkpoints(const fs::path& dir) {
+  std::vector<fs::path> all;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir / "checkpoints", ec))
+    if (e.path().extension() == ".ckpt") all.push_back(e.path());
+  std::sort(all.rbegin(), all.rend());
+  return all;
+}
+
+void RunDirectory::prune_checkpoints(int keep) const {
+  const std::vector<fs::path> all = checkpoints(dir_);
+  std::error_code ec;
+  for (size_t k = static_cast<size_t>(keep); k < all.size(); ++k) fs::remove(all[k], ec);
+  for (const auto& e : fs::directory_iterator(dir_ / "checkpoints", ec))
+    if (e.path().extension() == ".tmp") fs::remove(e.path(), ec);
+}
+
+}  // namespace capflow::app
