@@ -135,8 +135,9 @@ def ensure_run(exe, name, reuse, nb=None, t_end=None):
 
 
 def run_capflow(exe, path, rdir, caller):
-    """`capflow run PATH -o RDIR`, its console output in RDIR.out."""
-    cmd = [exe, "run", path, "-o", rdir]
+    """`capflow run PATH -o RDIR --overwrite` (a study reruns its runs), its console output in
+    RDIR.out."""
+    cmd = [exe, "run", path, "-o", rdir, "--overwrite"]
     print(caller + ": " + " ".join(cmd), file=sys.stderr, flush=True)
     with open(rdir + ".out", "w") as log:
         subprocess.run(cmd, stdout=log, stderr=subprocess.STDOUT, check=False)
