@@ -1,4 +1,5 @@
 #include "spectral/spectral.h"
+#include "spectral/target_clones.h"
 
 #include <algorithm>
 #include <cmath>
@@ -185,7 +186,7 @@ VectorXd product_weights(const VectorXd& nodes) {
 
 // Compiled twice (x86-64-v3 with AVX2/FMA and the default), chosen at load time: the stokes
 // special quadrature rules evaluate their bases with it on every call.
-__attribute__((target_clones("arch=x86-64-v3", "default"))) void lagrange_bases(
+CAPFLOW_TARGET_CLONES("arch=x86-64-v3", "default") void lagrange_bases(
     const VectorXd& nodes, const VectorXd& c, const double* t, int np, double* L, double* dL,
     long ld) {
   const int n = static_cast<int>(nodes.size());

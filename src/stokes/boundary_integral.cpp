@@ -13,6 +13,7 @@
 #include "geometry/shapes.h"
 #include "geometry/surface.h"
 #include "spectral/spectral.h"
+#include "spectral/target_clones.h"
 
 namespace capflow::stokes {
 
@@ -352,7 +353,7 @@ void load_element(int nb, int K, const Matrix3Xd& x, const Matrix3Xd* dens, int 
 // at load time.
 typedef double v4d __attribute__((vector_size(32)));
 
-__attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default"))) void single_line(
+CAPFLOW_TARGET_CLONES("arch=x86-64-v4", "arch=x86-64-v3", "default") void single_line(
     int nb, int m, const double* A, const double* B, const double* L, const double* dL, long ld,
     const double* w, double sg, const double* x0, double* buf, double* out) {
   // Blocks of 4 points with the 12 interpolated values in registers (GCC vector extension);
@@ -495,7 +496,7 @@ __attribute__((always_inline)) inline void stage1_lines(int nb, int l, int kp, i
 // columns (the rows of D are read once per pair of lines and the sums stay in registers); D, A
 // and B must hold pad8(Kn) / pad8(n3) columns. The sums run over i in order, as a plain loop
 // would. Cloned like single_line.
-__attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default"))) void stage1(
+CAPFLOW_TARGET_CLONES("arch=x86-64-v4", "arch=x86-64-v3", "default") void stage1(
     int nb, int nl, int Kn, int n3, const double* Lc, const double* dLc, const double* D, long ldD,
     double* A, long ldA, double* B, long ldB) {
   const int kp = pad8(Kn), k3 = pad8(n3);
@@ -967,7 +968,7 @@ void far_data(const geometry::Mesh& mesh, const Matrix3Xd& x, const Matrix3Xd* d
 }
 
 // Single-layer kernel sum over far points [q0, q1) (rows of F.d); cloned like single_line.
-__attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default"))) void far_single(
+CAPFLOW_TARGET_CLONES("arch=x86-64-v4", "arch=x86-64-v3", "default") void far_single(
     const double* px, const double* py, const double* pz, const double* fx, const double* fy,
     const double* fz, const double* wj, int q0, int q1, const double* x0, double* acc) {
   const double X0 = x0[0], X1 = x0[1], X2 = x0[2];
