@@ -126,6 +126,7 @@ Eigen::Matrix3Xd Capsule::traction(const Eigen::Matrix3Xd& x) const {
 Eigen::Matrix3Xd Capsule::velocity_impl(const Eigen::Matrix3Xd& x, double ca,
                                         bool use_symmetry) const {
   if (!(ca > 0)) throw std::invalid_argument("Capsule::velocity: Ca must be > 0");
+  ++evaluations_;
   const SymmetryMap& sym = use_symmetry ? *symmetry_ : *no_symmetry_;
   const Eigen::Matrix3Xd f = traction(x);
   const std::vector<int>& targets = sym.targets();
@@ -154,15 +155,24 @@ void Capsule::step(double dt, const CaFunction& ca) {
   const Eigen::Matrix3Xd k2 = velocity(x_ + 0.5 * dt * k1, ca(t + 0.5 * dt));
   const Eigen::Matrix3Xd k3 = velocity(x_ + 0.5 * dt * k2, ca(t + 0.5 * dt));
   const Eigen::Matrix3Xd k4 = velocity(x_ + dt * k3, ca(t + dt));
-  x_ += (dt / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+  Eigen::Matrix3Xd x = x_ + (dt / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+  finish_step(&x);
+  accept_step(x, t + dt);
+}
+
+void Capsule::finish_step(Eigen::Matrix3Xd* x) const {
   if (opt_.smooth_geometry) {
     if (opt_.smoothing == SmoothingMethod::NodalReconstruction)
-      smooth_first_order(mesh_, ref_basis_, &x_);
+      smooth_first_order(mesh_, ref_basis_, x);
     else
-      average_coincident(mesh_, &x_);
+      average_coincident(mesh_, x);
   }
-  if (opt_.volume_correction) x_ = rescale_to_volume(mesh_, x_, v0_);
-  t_ = t + dt;
+  if (opt_.volume_correction) *x = rescale_to_volume(mesh_, *x, v0_);
+}
+
+void Capsule::accept_step(const Eigen::Matrix3Xd& x, double t) {
+  x_ = x;
+  t_ = t;
   ++steps_;
 }
 

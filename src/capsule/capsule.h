@@ -4,7 +4,8 @@
 //   u(x0) = u_inf(x0) - (1/(8 pi Ca)) INT S(x0, x) . f(x) dS(x),
 // f = -div_s tau the traction jump from the membrane (units Gs/a), lengths in a, time in 1/G.
 // Time stepping: classical RK4 on the node positions (material points, dx/dt = u) with a fixed
-// dt; Ca may depend on time (evaluated at the RK stage times).
+// dt (step), or any integrator that evaluates velocity() and ends each step with finish_step
+// and accept_step; Ca may depend on time (evaluated at the stage times).
 // Smoothing (paper sec. 3.2, capsule/smoothing.h): f is smoothed every time it is computed
 // (i.e. at the start of each RK stage, with the current tangents), the geometry at the end of
 // every step (with the reference tangents).
@@ -95,11 +96,18 @@ class Capsule {
   void tangents(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* t1, Eigen::Matrix3Xd* t2) const;
   // Node velocities at positions x for capillary number ca (> 0).
   Eigen::Matrix3Xd velocity(const Eigen::Matrix3Xd& x, double ca) const;
+  // How many times velocity() (or velocity_full) has been evaluated by this object.
+  long velocity_evaluations() const { return evaluations_; }
   // Same, evaluated at every node without symmetry (reference for tests).
   Eigen::Matrix3Xd velocity_full(const Eigen::Matrix3Xd& x, double ca) const;
 
-  // One RK4 step of size dt with Ca(t); then smoothing and the optional volume correction.
+  // One RK4 step of size dt with Ca(t); then finish_step.
   void step(double dt, const CaFunction& ca);
+  // What ends every step: smoothing of x (options().smooth_geometry) and the optional volume
+  // correction. Used by step() and by the adaptive stepper (capsule/adaptive_stepper.h).
+  void finish_step(Eigen::Matrix3Xd* x) const;
+  // Takes x (already finished) as the state at time t after one more step.
+  void accept_step(const Eigen::Matrix3Xd& x, double t);
 
  private:
   Eigen::Matrix3Xd velocity_impl(const Eigen::Matrix3Xd& x, double ca, bool use_symmetry) const;
@@ -116,6 +124,7 @@ class Capsule {
   double t_ = 0;
   long steps_ = 0;
   double v0_ = 0;
+  mutable long evaluations_ = 0;
 };
 
 // Volume enclosed by the surface x (Gauss quadrature, nq = NB + 4).
