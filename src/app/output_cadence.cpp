@@ -1,5 +1,6 @@
 #include "app/output_cadence.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace capflow::app {
@@ -35,6 +36,10 @@ Due OutputCadence::due(double t, double dt) const {
   d.vtk = t >= next_vtk_ - eps;
   d.checkpoint = t >= next_checkpoint_ - eps;
   return d;
+}
+
+double OutputCadence::next_time() const {
+  return std::min({next_row_, next_frame_, next_vtk_, next_checkpoint_});
 }
 
 void OutputCadence::fired(const Due& d, const control::OutputOptions& o, double t) {

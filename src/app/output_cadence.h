@@ -21,6 +21,8 @@ class OutputCadence {
   // After a live edit: outputs whose cadence changed restart from t.
   void edit(const control::OutputOptions& before, const control::OutputOptions& after, double t);
   Due due(double t, double dt) const;
+  // The earliest time an output is due (+inf when none is): adaptive steps end there.
+  double next_time() const;
   // Moves the outputs that fired at t to their next time.
   void fired(const Due& d, const control::OutputOptions& o, double t);
 

@@ -13,9 +13,10 @@ Progress::Progress(bool tty, Clock clock) : tty_(tty), clock_(std::move(clock)) 
     };
 }
 
-void Progress::start(long steps) {
+void Progress::start(long steps, double t) {
   start_ = clock_();
   steps_at_start_ = steps;
+  t_at_start_ = t;
   paused_seconds_ = 0;
   paused_ = printed_ = false;
 }
@@ -46,6 +47,10 @@ bool Progress::due() {
 
 double Progress::rate(long steps) const {
   return (steps - steps_at_start_) / std::max(running_seconds(), 1e-9);
+}
+
+double Progress::time_rate(double t) const {
+  return (t - t_at_start_) / std::max(running_seconds(), 1e-9);
 }
 
 }  // namespace capflow::app

@@ -13,13 +13,17 @@ class Progress {
   using Clock = std::function<double()>;  // seconds, monotonic
   // `clock`: steady_clock by default (tests pass their own).
   explicit Progress(bool tty, Clock clock = nullptr);
-  void start(long steps);  // the session starts with this step count
+  // The session starts with this step count at simulated time t.
+  void start(long steps, double t = 0);
   void pause();
   void unpause();
   // True when the next line is due (and marks it as printed).
   bool due();
   // Steps per second of running (unpaused) time in this session.
   double rate(long steps) const;
+  // Simulated time per second of running time in this session (the ETA's rate: adaptive steps
+  // vary in size).
+  double time_rate(double t) const;
   bool tty() const { return tty_; }
 
  private:
@@ -30,6 +34,7 @@ class Progress {
   bool paused_ = false, printed_ = false;
   double paused_seconds_ = 0;
   long steps_at_start_ = 0;
+  double t_at_start_ = 0;
 };
 
 }  // namespace capflow::app

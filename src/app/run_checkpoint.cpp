@@ -84,6 +84,9 @@ RunCheckpoint decode(const output::Checkpoint& c) {
   }
   if (c.has("pending_steady_ca")) s.pending_steady_ca = c.scalar("pending_steady_ca");
   if (c.has("pending_ca")) s.pending_ca = c.scalar("pending_ca");
+  if (c.has("h_next")) s.h_next = c.scalar("h_next");
+  if (!(std::isfinite(s.h_next) && s.h_next >= 0 && s.h_next <= 1))
+    throw output::CheckpointError(p + ": invalid h_next (the adaptive step) in the checkpoint");
   if (c.has("note"))
     s.note = c.text("note");
   else if (c.has("extrapolated"))
@@ -122,6 +125,7 @@ void write_run_checkpoint(const RunCheckpoint& s, const std::string& path) {
             (s.pending_row ? 1 : 0) | (s.pending_frame ? 2 : 0) | (s.pending_vtk ? 4 : 0));
   c.put_scalar("pending_steady_ca", s.pending_steady_ca);
   c.put_scalar("pending_ca", s.pending_ca);
+  c.put_scalar("h_next", s.h_next);
   if (!s.note.empty()) c.put("note", s.note);
   try {
     c.write(path);

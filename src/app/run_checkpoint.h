@@ -9,8 +9,9 @@
 // checkpoint_now_seen, control (the effective control file), control_file (the watched control
 // file as last read; absent = control), pending_outputs (bits 1 row, 2 frame, 4 surface: the
 // outputs of this step an output failure left unwritten; absent = 0) with pending_ca (the Ca
-// they carry), pending_steady_ca (the Ca of an unwritten steady.csv row; NaN = none), and note
-// (free text: where a state that no run wrote came from, e.g. an extrapolation; absent = "").
+// they carry), pending_steady_ca (the Ca of an unwritten steady.csv row; NaN = none),
+// h_next (the adaptive integrator's next step, time.dt "auto"; absent or 0 = estimate anew),
+// and note (free text: where a state that no run wrote came from, e.g. an extrapolation; absent = "").
 #pragma once
 
 #include <Eigen/Dense>
@@ -43,6 +44,7 @@ struct RunCheckpoint {
   bool checkpoint_now_seen = false;
   bool pending_row = false, pending_frame = false, pending_vtk = false;
   double pending_ca = 0;
+  double h_next = 0;
   std::string note;
   double pending_steady_ca = std::numeric_limits<double>::quiet_NaN();
 };

@@ -20,6 +20,7 @@
 #include "app/run_checkpoint.h"
 #include "app/run_directory.h"
 #include "app/run_log.h"
+#include "app/time_stepper.h"
 #include "capsule/capsule.h"
 #include "capsule/health.h"
 #include "control/control_file.h"
@@ -49,7 +50,7 @@ namespace {
 
 const char* const kTimeseriesHeader =
     "t,ca,D,L,S,W,Lc,Sc,Wc,area,volume,edge_curvature,tau_max,tau_min,inclination_deg,"
-    "volume_drift,steps,wall_s\n";
+    "volume_drift,steps,dt,wall_s\n";
 const char* const kSteadyHeader = "t,ca,L,S,W,Lc,Sc,Wc,D,area,edge_curvature,tau_max,tau_min\n";
 
 struct Measures {
@@ -72,6 +73,13 @@ struct Observation {
 struct StepOutcome {
   std::string failure;
 };
+
+// 0.001, 1e-06: a number as a person would write it.
+std::string fixed_or_sci(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
 
 std::string fixed(double v, int digits) {
   std::ostringstream s;
@@ -104,6 +112,9 @@ struct Simulation::Impl {
   std::unique_ptr<geometry::Mesh> mesh;
   std::unique_ptr<capsule::Capsule> cap;
   std::unique_ptr<capsule::HealthMonitor> health;
+  std::unique_ptr<TimeStepper> stepper;
+  double last_dt = 0;  // the step that ended at t() (0 before the first)
+  long rejected = 0;   // adaptive step attempts refused in this session
   std::unique_ptr<control::CaScheduler> schedule;
   std::unique_ptr<render::RenderThread> renderer;
   std::unique_ptr<output::PvdCollection> pvd;
@@ -138,8 +149,10 @@ struct Simulation::Impl {
                                              control::dynamics_options(opt));
   }
 
-  void start_monitors(std::optional<double> initial_ca) {
+  // h_next: the adaptive integrator's first step (from a checkpoint; 0 = estimate).
+  void start_monitors(std::optional<double> initial_ca, double h_next = 0) {
     health = std::make_unique<capsule::HealthMonitor>(*mesh, cap->positions());
+    stepper = std::make_unique<TimeStepper>(*cap, opt.time, h_next);
     schedule = std::make_unique<control::CaScheduler>(opt.ca, opt.steady, cap->time(), initial_ca);
     cadence = std::make_unique<OutputCadence>(opt.output, cap->time());
     next_sample = cap->time();
@@ -243,10 +256,10 @@ struct Simulation::Impl {
     char buf[640];
     std::snprintf(buf, sizeof buf,
                   "%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.12g,%.10g,%.10g,"
-                  "%.10g,%.8g,%.6e,%ld,%.3f\n",
+                  "%.10g,%.8g,%.6e,%ld,%.6g,%.3f\n",
                   cap->time(), ca, d.D, d.L, d.S, d.W, d.Lc, d.Sc, d.Wc, d.area, d.volume,
                   d.edge_curvature, m.tau_max, m.tau_min, d.inclination_deg,
-                  d.volume / cap->initial_volume() - 1.0, cap->step_count(), wall());
+                  d.volume / cap->initial_volume() - 1.0, cap->step_count(), last_dt, wall());
     dir->timeseries().append(buf);
     ++rows;
   }
@@ -332,13 +345,17 @@ struct Simulation::Impl {
     s.pending_vtk = pending.vtk;
     s.pending_steady_ca = pending_steady_ca;
     s.pending_ca = pending_ca;
+    s.h_next = stepper->adaptive() ? stepper->next_step() : 0.0;
     return s;
   }
 
   void write_checkpoint(const std::string& why) {
     dir->subdirectory("checkpoints");
     const fs::path path = dir->checkpoint_path(cap->step_count());
-    write_run_checkpoint(checkpoint_state(), path.string());
+    const RunCheckpoint state = checkpoint_state();
+    write_run_checkpoint(state, path.string());
+    // The integrator continues exactly as a resume from this checkpoint would.
+    stepper->restart(state.h_next);
     dir->prune_checkpoints(3);
     event(Record()
               .set("event", "checkpoint")
@@ -380,9 +397,13 @@ struct Simulation::Impl {
     const control::OutputOptions before = opt.output;
     opt = r.merged;
     cap->set_volume_correction(opt.numerics.volume_correction);
+    stepper->configure(opt.time);
     if (r.steady_changed) schedule->set_steady(opt.steady);
     std::string schedule_note;
-    if (r.schedule_changed) schedule_note = schedule->edit(opt.ca, now);
+    if (r.schedule_changed) {
+      schedule_note = schedule->edit(opt.ca, now);
+      stepper->restart();  // Ca may jump here
+    }
     if (opt.numerics.threads > 0) omp_set_num_threads(opt.numerics.threads);
     cadence->edit(before, opt.output, now);
     write_effective_control();
@@ -412,26 +433,21 @@ struct Simulation::Impl {
               .set("ca", schedule->ca(now)));
   }
 
-  // One step and the health check; on failure the last good state is restored.
-  StepOutcome advance(double dt) {
-    const double t0 = t();
-    const Eigen::Matrix3Xd last_good = cap->positions();
-    const long steps_prev = cap->step_count();
+  // One step and the health check (on failure the last good state is kept). Adaptive steps
+  // end at t_end, the next output time or the next change of the Ca schedule at the latest.
+  StepOutcome advance() {
+    const double t_stop =
+        std::min({opt.time.t_end, cadence->next_time(), schedule->next_breakpoint(t())});
+    const TimeStepper::Outcome o =
+        stepper->advance(t_stop, [&](double tt) { return schedule->ca(tt); }, *health);
+    for (const capsule::HealthReport& w : o.warnings) {
+      say("warning: " + w.message);
+      event(Record().set("event", "warning").set("cause", w.cause).set("message", w.message));
+    }
     StepOutcome out;
-    try {
-      cap->step(dt, [&](double tt) { return schedule->ca(tt); });
-    } catch (const std::exception& e) {
-      out.failure = "the step from t = " + std::to_string(t0) + " failed: " + e.what();
-    }
-    if (out.failure.empty()) {
-      const capsule::HealthReport h = health->check(cap->positions(), cap->time());
-      if (h.level == capsule::HealthLevel::Failure) out.failure = h.message;
-      if (h.level == capsule::HealthLevel::Warning) {
-        say("warning: " + h.message);
-        event(Record().set("event", "warning").set("cause", h.cause).set("message", h.message));
-      }
-    }
-    if (!out.failure.empty()) cap->set_state(last_good, t0, steps_prev);
+    out.failure = o.failure;
+    if (out.failure.empty()) last_dt = o.dt;
+    rejected += o.rejected;
     return out;
   }
 
@@ -525,12 +541,12 @@ struct Simulation::Impl {
     if (!progress.due()) return;
     const double now = t();
     const double rate = progress.rate(cap->step_count());
-    const double eta = (opt.time.t_end - now) / opt.time.dt / std::max(rate, 1e-9);
+    const double eta = (opt.time.t_end - now) / std::max(progress.time_rate(now), 1e-12);
     const double eta_steady = schedule->eta_steady(now);
     std::ostringstream line;
     line << "t=" << fixed(now, 4) << " Ca=" << fixed(schedule->ca(now), 4)
-         << " D=" << fixed(ob.measured ? ob.m.shape.D : D, 4) << " " << fixed(rate, 1)
-         << " steps/s, ETA " << fixed(eta, 0) << " s to t_end";
+         << " D=" << fixed(ob.measured ? ob.m.shape.D : D, 4) << " dt=" << std::setprecision(3)
+         << last_dt << " " << fixed(rate, 1) << " steps/s, ETA " << fixed(eta, 0) << " s to t_end";
     if (eta_steady >= 0) line << ", steady in ~" << fixed(eta_steady, 2) << " (sim. time)";
     log->status(line.str());
   }
@@ -545,7 +561,10 @@ struct Simulation::Impl {
       << (o.mesh.division == geometry::Division::Cube
               ? ""
               : std::string(" (") + control::division_name(o.mesh.division) + " division)")
-      << " NB=" << o.mesh.nb << ", dt=" << o.time.dt << ", t_end=" << o.time.t_end << ", "
+      << " NB=" << o.mesh.nb << ", dt="
+      << (o.time.adaptive ? "auto (tolerance " + fixed_or_sci(o.time.tolerance) + ")"
+                          : fixed_or_sci(o.time.dt))
+      << ", t_end=" << o.time.t_end << ", "
       << omp_get_max_threads() << " threads, symmetry targets " << cap->symmetry().targets().size()
       << "/" << mesh->num_unique();
     if (o.numerics.quadrature_scale != 1.0)
@@ -683,7 +702,7 @@ std::unique_ptr<Simulation> Simulation::resume(const std::string& run_dir,
   s.log = std::make_unique<RunLog>(*s.dir, isatty(STDERR_FILENO));
   s.build_solver();
   s.cap->set_state(c.x, c.t, c.steps);
-  s.start_monitors(c.ca);
+  s.start_monitors(c.ca, c.h_next);
   try {
     s.schedule->restore(c.schedule);
     s.health->restore(c.health_normals, c.health_flags);
@@ -738,7 +757,7 @@ RunSummary Simulation::run(const std::atomic<bool>* stop) {
   Impl& s = *impl_;
   s.start = std::chrono::steady_clock::now();
   Progress progress(s.log->tty());
-  progress.start(s.cap->step_count());
+  progress.start(s.cap->step_count(), s.t());
   RunSummary sum;
   const bool fresh = s.cap->step_count() == 0 && s.rows == 0;
   std::string reason = "t_end reached";
@@ -771,9 +790,8 @@ RunSummary Simulation::run(const std::atomic<bool>* stop) {
         std::this_thread::sleep_for(std::chrono::milliseconds(100));
         continue;
       }
-      const double dt = s.opt.time.dt;
-      if (s.t() >= s.opt.time.t_end - 0.5 * dt) break;
-      const StepOutcome step = s.advance(dt);
+      if (s.stepper->done(s.opt.time.t_end)) break;
+      const StepOutcome step = s.advance();
       if (!step.failure.empty()) {
         sum.failed = true;
         sum.failure = step.failure;
@@ -783,11 +801,13 @@ RunSummary Simulation::run(const std::atomic<bool>* stop) {
         reason = "failure";
         break;
       }
+      const double dt = s.last_dt;
       const Due due = s.cadence->due(s.t(), dt);
       const double D_before = last.m.shape.D;
       Observation ob = s.observe(due, dt);
       sum.steady_states += ob.schedule.steady;
       const bool stop_here = s.emit(ob, due);
+      if (ob.schedule.level_changed) s.stepper->restart();  // Ca may jump here
       if (ob.measured) last = ob;
       s.report_progress(progress, ob, D_before);
       if (stop_here) {
@@ -837,6 +857,7 @@ RunSummary Simulation::run(const std::atomic<bool>* stop) {
   sum.reason = reason;
   sum.t = s.t();
   sum.steps = s.cap->step_count();
+  sum.evaluations = s.cap->velocity_evaluations();
   sum.wall_s = s.wall();
   sum.D = m.shape.D;
   sum.L = m.shape.L;
@@ -844,7 +865,8 @@ RunSummary Simulation::run(const std::atomic<bool>* stop) {
   sum.W = m.shape.W;
   sum.volume_drift = m.shape.volume / s.cap->initial_volume() - 1.0;
   std::ostringstream fin;
-  fin << "end (" << reason << "): t=" << sum.t << " steps=" << sum.steps << " wall=" << std::fixed
+  fin << "end (" << reason << "): t=" << sum.t << " steps=" << sum.steps
+      << " (rejected " << s.rejected << ") velocity evaluations=" << sum.evaluations << " wall=" << std::fixed
       << std::setprecision(1) << sum.wall_s << " s, D=" << std::setprecision(5) << sum.D
       << " L=" << sum.L << " S=" << sum.S << " W=" << sum.W << ", volume drift " << std::scientific
       << std::setprecision(2) << sum.volume_drift << ", steady states " << s.steady_rows;
@@ -855,6 +877,8 @@ RunSummary Simulation::run(const std::atomic<bool>* stop) {
                 .set("reason", reason)
                 .set("exit_code", sum.exit_code())
                 .set("steps", sum.steps)
+                .set("velocity_evaluations", sum.evaluations)
+                .set("rejected_steps", s.rejected)
                 .set("D", sum.D)
                 .set("L", sum.L)
                 .set("S", sum.S)

@@ -49,6 +49,7 @@ struct RunSummary {
   std::string reason;          // why the run ended
   double t = 0;
   long steps = 0;
+  long evaluations = 0;        // velocity evaluations in this session
   double wall_s = 0;
   double D = 0, L = 0, S = 0, W = 0;
   double volume_drift = 0;

@@ -115,7 +115,7 @@ void add_warnings(const json& doc, const ControlOptions& o, std::vector<ControlI
   for (const auto& s : o.ca.segments)
     ca_min = std::min(ca_min, s.kind == CaSegment::Kind::Hold ? s.ca : s.to);
   const double dx = min_node_spacing(o.mesh);
-  if (o.time.dt > ca_min * dx) {
+  if (!o.time.adaptive && o.time.dt > ca_min * dx) {
     std::ostringstream s;
     s << "dt = " << o.time.dt << " exceeds the stability estimate Ca_min * dx_min = " << ca_min
       << " * " << dx << " = " << ca_min * dx << " (paper eq. 16): the run may become unstable";
@@ -207,6 +207,14 @@ std::string to_string(RunState s) {
 std::vector<ControlIssue> time_issues(const TimeOptions& time, double t_now) {
   std::vector<ControlIssue> out;
   std::ostringstream m;
+  if (time.adaptive) {
+    if (!(time.t_end > t_now)) {
+      m << "value " << time.t_end << " is not after the run's time t = " << t_now
+        << ": nothing would be simulated";
+      out.push_back({"time.t_end", m.str()});
+    }
+    return out;
+  }
   if (time.t_end < (t_now > 0 ? t_now + 0.5 * time.dt : time.dt)) {
     if (t_now > 0)
       m << "value " << time.t_end << " is not after the run's time t = " << t_now

@@ -60,8 +60,12 @@ struct StartOptions {
 };
 
 struct TimeOptions {
-  double dt = 1e-3;   // "time.dt": RK4 step, (0, 0.1]; stable for dt < O(Ca dx_min)
-  double t_end = 20;  // "time.t_end": simulated end time, (0, 1e6]
+  // "time.dt": "auto" (adaptive steps with local error control, capsule/adaptive_stepper.h) or
+  // a number: the fixed RK4 step, [1e-6, 0.1]; stable for dt < O(Ca dx_min).
+  bool adaptive = true;
+  double dt = 1e-3;         // the fixed step (used when !adaptive)
+  double tolerance = 1e-6;  // "time.tolerance": local error tolerance of the adaptive steps
+  double t_end = 20;        // "time.t_end": simulated end time, (0, 1e6]
 };
 
 // One segment of a Ca schedule (the "ca" key as a list):

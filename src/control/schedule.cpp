@@ -93,6 +93,18 @@ double CaScheduler::ca(double t) const {
   return (s.to >= level_) ? std::min(c, s.to) : std::max(c, s.to);
 }
 
+double CaScheduler::next_breakpoint(double t) const {
+  const double none = std::numeric_limits<double>::infinity();
+  if (in_final_hold()) return none;
+  const CaSegment& s = schedule_.segments[segment_];
+  double at = none;
+  if (s.kind == CaSegment::Kind::Ramp)
+    at = level_start_ + std::abs(s.to - level_) / s.rate;
+  else if (!s.until_steady)
+    at = level_start_ + s.hold_time;
+  return at > t ? at : none;
+}
+
 void CaScheduler::next_level(double t) {
   const CaSegment& s = schedule_.segments[segment_];
   if (s.kind == CaSegment::Kind::Steps && level_ != s.to) {
@@ -165,7 +177,7 @@ CaScheduler::Event CaScheduler::sample(double t, double L, double S, double W) {
   const CaSegment& s = schedule_.segments[segment_];
   bool done = false;
   if (s.kind == CaSegment::Kind::Ramp) {
-    done = (ca(t) == s.to);
+    done = ca(t) == s.to || t >= (level_start_ + std::abs(s.to - level_) / s.rate) * (1 - 1e-15);
   } else if (s.until_steady) {
     done = steady;
     ev.steady = steady;

@@ -44,6 +44,10 @@ class CaScheduler {
 
   // Ca at time t >= the start of the current segment (used for the RK stages of a step).
   double ca(double t) const;
+  // The next time after t at which the schedule changes by the clock (the end of a ramp or of
+  // a timed hold), +inf when the change waits for a steady state or none is left. Adaptive time
+  // steps end there, so that the change happens at its exact time.
+  double next_breakpoint(double t) const;
 
   struct Event {
     bool steady = false;         // a steady state was reached at this sample ...

@@ -496,12 +496,39 @@ std::vector<Field> build_fields() {
         return rows;
       }));
   // time
+  t.push_back(custom(
+      {"time.dt", "number or \"auto\"", "\"auto\", or a number in " + closed(kMinTimeStep, 0.1).text(),
+       "\"auto\"", "1/G", kLive,
+       "\"auto\": adaptive steps that keep the local error below time.tolerance and find the "
+       "stability limit; a number: the fixed RK4 step (stable for dt < O(Ca dx_min))"},
+      [](const json& v, ReadContext& c) {
+        if (v.is_string() && v.get<std::string>() == "auto") {
+          c.options.time.adaptive = true;
+          return;
+        }
+        double d = 0;
+        const std::string issue = number_issue(v, closed(kMinTimeStep, 0.1),
+                                               "the time step dt (or \"auto\")", &d);
+        if (!issue.empty()) return add_error(c, "time.dt", issue);
+        c.options.time.adaptive = false;
+        c.options.time.dt = d;
+      },
+      [](const O& o) -> std::optional<json> {
+        return o.time.adaptive ? json("auto") : json(o.time.dt);
+      },
+      [](O& d, const O& s) {
+        d.time.adaptive = s.time.adaptive;
+        d.time.dt = s.time.dt;
+      }));
   t.push_back(number(
-      "time.dt", [](O& o) -> double& { return o.time.dt; }, closed(kMinTimeStep, 0.1),
-      "the time step dt", "1/G", kLive, "RK4 time step; stable for dt < O(Ca dx_min)"));
+      "time.tolerance", [](O& o) -> double& { return o.time.tolerance; }, closed(1e-10, 1e-2),
+      "the local error tolerance", "a", kLive,
+      "adaptive steps (time.dt \"auto\"): relative and absolute local error per step of the "
+      "node positions"));
   t.push_back(number(
       "time.t_end", [](O& o) -> double& { return o.time.t_end; }, open_closed(0, 1e6),
-      "the end time t_end", "1/G", kLive, "simulated end time (at least dt, at most 1e7 steps)"));
+      "the end time t_end", "1/G", kLive,
+      "simulated end time (fixed dt: at least dt, at most 1e7 steps)"));
   // ca
   t.push_back(custom(
       {"ca", "number or list", "(0, 100], or a list of segments (below)", "required", "", kLive,
@@ -801,9 +828,10 @@ std::string control_reference_markdown() {
     << "| nesting of objects and arrays | " << kMaxControlDepth << " levels |\n"
     << "| numbers | within the range of a double (1e400 is refused) |\n"
     << "| `description` | " << kMaxDescriptionBytes << " bytes |\n"
-    << "| `time.dt` | at least " << kMinTimeStep << " |\n"
-    << "| `time.t_end` | at least `time.dt`, and at most " << kMaxSteps
-    << " steps (`t_end / dt`) |\n";
+    << "| `time.dt` | at least " << kMinTimeStep << "; \"auto\" steps never fall below it "
+    << "(the run fails instead) |\n"
+    << "| `time.t_end` | after the run's time; with a fixed `time.dt` at least `time.dt`, and "
+    << "at most " << kMaxSteps << " steps (`t_end / dt`) |\n";
   return m.str();
 }
 

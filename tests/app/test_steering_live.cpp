@@ -27,23 +27,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Column `name` of every data row of a CSV file.
 std::vector<double> column(const fs::path& csv, const std::string& name) {
-  const std::vector<std::string> lines = test::lines_of(csv);
-  std::vector<double> out;
-  if (lines.empty()) return out;
-  int col = -1, k = 0;
-  std::stringstream header(lines[0]);
-  for (std::string c; std::getline(header, c, ','); ++k)
-    if (c == name) col = k;
-  EXPECT_GE(col, 0) << name << " in " << csv;
-  for (size_t i = 1; i < lines.size(); ++i) {
-    std::stringstream row(lines[i]);
-    std::string cell;
-    for (int j = 0; j <= col && std::getline(row, cell, ','); ++j) {
-    }
-    out.push_back(std::stod(cell));
-  }
+  std::vector<double> out = test::csv_column(csv, name);
+  EXPECT_FALSE(out.empty()) << name << " in " << csv;
   return out;
 }
 

@@ -52,4 +52,24 @@ inline bool wait_for(const std::function<bool()>& pred, double seconds) {
   return pred();
 }
 
+// Column `name` of every data row of a CSV file (empty when the file or the column is missing).
+inline std::vector<double> csv_column(const std::filesystem::path& csv, const std::string& name) {
+  const std::vector<std::string> lines = lines_of(csv);
+  std::vector<double> out;
+  if (lines.empty()) return out;
+  int col = -1, k = 0;
+  std::stringstream header(lines[0]);
+  for (std::string c; std::getline(header, c, ','); ++k)
+    if (c == name) col = k;
+  if (col < 0) return out;
+  for (size_t i = 1; i < lines.size(); ++i) {
+    std::stringstream row(lines[i]);
+    std::string cell;
+    for (int j = 0; j <= col && std::getline(row, cell, ','); ++j) {
+    }
+    out.push_back(std::stod(cell));
+  }
+  return out;
+}
+
 }  // namespace capflow::test

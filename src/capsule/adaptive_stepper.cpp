@@ -1,0 +1,190 @@
+#include "capsule/adaptive_stepper.h"
+
+#include <arkode/arkode_erkstep.h>
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_context.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace capflow::capsule {
+
+namespace {
+
+Eigen::Map<Eigen::VectorXd> view(N_Vector v) {
+  return {N_VGetArrayPointer(v), static_cast<Eigen::Index>(N_VGetLength(v))};
+}
+
+void require(int flag, const char* call) {
+  if (flag < 0)
+    throw std::runtime_error(std::string("ARKODE ") + call + " failed (flag " +
+                             std::to_string(flag) + ")");
+}
+
+}  // namespace
+
+// The ARKODE objects and what the C callbacks report back.
+struct AdaptiveStepper::Arkode {
+  Rhs rhs;
+  SUNContext ctx = nullptr;
+  N_Vector y = nullptr;
+  void* mem = nullptr;
+  Eigen::VectorXd y_in, dydt;  // the callback's buffers
+  Eigen::VectorXd y_now;       // the accepted state at time()
+  std::string rhs_error;       // what the right-hand side threw
+  std::string message;         // ARKODE's last error message
+  long evals = 0;
+
+  static int f(realtype t, N_Vector y, N_Vector ydot, void* data) {
+    auto* a = static_cast<Arkode*>(data);
+    try {
+      a->y_in = view(y);
+      a->rhs(t, a->y_in, &a->dydt);
+      view(ydot) = a->dydt;
+      ++a->evals;
+      return 0;
+    } catch (const std::exception& e) {
+      a->rhs_error = e.what();
+      return -1;
+    }
+  }
+  static void on_error(int, const char*, const char* function, char* msg, void* data) {
+    static_cast<Arkode*>(data)->message = std::string(function) + ": " + msg;
+  }
+
+  ~Arkode() {
+    if (mem) ERKStepFree(&mem);
+    if (y) N_VDestroy(y);
+    if (ctx) SUNContext_Free(&ctx);
+  }
+};
+
+AdaptiveStepper::AdaptiveStepper(Rhs rhs, const AdaptiveOptions& options)
+    : ark_(std::make_unique<Arkode>()), opt_(options) {
+  if (!(options.tolerance >= 1e-12 && options.tolerance <= 1e-1))
+    throw std::invalid_argument("AdaptiveStepper: tolerance outside [1e-12, 0.1]");
+  ark_->rhs = std::move(rhs);
+  require(SUNContext_Create(nullptr, &ark_->ctx), "SUNContext_Create");
+}
+
+AdaptiveStepper::~AdaptiveStepper() = default;
+
+void AdaptiveStepper::restart(double t, const Eigen::VectorXd& y, double h) {
+  Arkode& a = *ark_;
+  if (!a.y || N_VGetLength(a.y) != y.size()) {
+    if (a.mem) ERKStepFree(&a.mem);
+    if (a.y) N_VDestroy(a.y);
+    a.y = N_VNew_Serial(y.size(), a.ctx);
+    if (!a.y) throw std::runtime_error("ARKODE: N_VNew_Serial failed");
+  }
+  view(a.y) = y;
+  if (!a.mem) {
+    a.mem = ERKStepCreate(&Arkode::f, t, a.y, a.ctx);
+    if (!a.mem) throw std::runtime_error("ARKODE: ERKStepCreate failed");
+    require(ERKStepSetErrHandlerFn(a.mem, &Arkode::on_error, &a), "ERKStepSetErrHandlerFn");
+    require(ERKStepSetUserData(a.mem, &a), "ERKStepSetUserData");
+    require(ERKStepSetTableNum(a.mem, ARKODE_CASH_KARP_6_4_5), "ERKStepSetTableNum");
+    // Gustafsson's controller for explicit methods (imethod 3), made for steps that are
+    // limited by stability rather than accuracy.
+    require(ERKStepSetAdaptivityMethod(a.mem, 3, 1, 0, nullptr), "ERKStepSetAdaptivityMethod");
+    require(ERKStepSetMinStep(a.mem, opt_.h_min), "ERKStepSetMinStep");
+    require(ERKStepSetMaxStep(a.mem, opt_.h_max), "ERKStepSetMaxStep");
+    require(ERKStepSStolerances(a.mem, opt_.tolerance, opt_.tolerance), "ERKStepSStolerances");
+  }
+  require(ERKStepSetInitStep(a.mem, std::clamp(h, 0.0, opt_.h_max)), "ERKStepSetInitStep");
+  require(ERKStepReset(a.mem, t, a.y), "ERKStepReset");
+  a.y_now = y;
+  t_ = t;
+  h_free_ = h;     // what a restart knows of the step size: all a resume knows
+  h_pending_ = h;  // next_step() until a step is taken
+}
+
+AdaptiveStepper::Step AdaptiveStepper::step(double t_stop, const Finish& finish, const Check& check,
+                                            Eigen::VectorXd* y) {
+  Arkode& a = *ark_;
+  if (!a.mem) throw std::logic_error("AdaptiveStepper::step before restart");
+  if (!(t_stop > t_)) throw std::invalid_argument("AdaptiveStepper::step: t_stop not after t");
+  const double t0 = t_;
+  const Eigen::VectorXd y0 = a.y_now;
+  Step s;
+  for (;;) {
+    long fails_before = 0, fails_after = 0;
+    ERKStepGetNumErrTestFails(a.mem, &fails_before);
+    require(ERKStepSetStopTime(a.mem, t_stop), "ERKStepSetStopTime");
+    a.rhs_error.clear();
+    a.message.clear();
+    const long evals_before = a.evals;
+    realtype t_reached = t0;
+    const int flag = ERKStepEvolve(a.mem, t_stop, a.y, &t_reached, ARK_ONE_STEP);
+    rhs_evals_ += a.evals - evals_before;
+    ERKStepGetNumErrTestFails(a.mem, &fails_after);
+    s.error_rejections += static_cast<int>(fails_after - fails_before);
+    std::string why;
+    bool changed = false;
+    if (flag < 0) {
+      why = a.rhs_error.empty() ? "the integrator failed (" + a.message + ")"
+                                : "the velocity evaluation failed: " + a.rhs_error;
+    } else {
+      *y = view(a.y);
+      if (finish) {
+        const Eigen::VectorXd before = *y;
+        finish(y);
+        changed = (before.array() != y->array()).any();
+      }
+      if (std::abs(t_reached - t_stop) <= 1e-13 * std::max(1.0, std::abs(t_stop)))
+        t_reached = t_stop;
+      why = check ? check(*y, t_reached) : std::string();
+    }
+    double h = 0;
+    if (why.empty()) {
+      ERKStepGetLastStep(a.mem, &h);
+      s.t = t_reached;
+      s.h = t_reached - t0;
+      t_ = t_reached;
+      a.y_now = *y;
+      h_pending_ = -1;
+      // A step that ends on t_stop was cut short: the controller would grow the next one from
+      // it and overshoot. The next step starts from the last step that was not cut (a state
+      // changed by `finish` restarts as well).
+      const bool cut = flag == ARK_TSTOP_RETURN;
+      if (!cut) h_free_ = s.h;
+      if (cut && h_free_ > 0)
+        restart(t_, *y, h_free_);
+      else if (changed)
+        restart(t_, *y, next_step());
+      return s;
+    }
+    ++s.check_rejections;
+    if (flag < 0)
+      ERKStepGetCurrentStep(a.mem, &h);
+    else
+      ERKStepGetLastStep(a.mem, &h);
+    const double h_try = 0.25 * h;
+    if (h_try < opt_.h_min || s.check_rejections > 40) {
+      std::ostringstream m;
+      m << why << " (the step from t = " << t0 << " was retried " << s.check_rejections
+        << " times down to " << h << "; the smallest step allowed is " << opt_.h_min << ")";
+      restart(t0, y0, h);
+      throw StepFailure(m.str());
+    }
+    restart(t0, y0, h_try);
+  }
+}
+
+double AdaptiveStepper::next_step() const {
+  if (h_pending_ >= 0) return h_pending_;
+  double h = 0;
+  if (ark_->mem) ERKStepGetCurrentStep(ark_->mem, &h);
+  return h;
+}
+
+void AdaptiveStepper::set_tolerance(double tolerance) {
+  if (!(tolerance >= 1e-12 && tolerance <= 1e-1))
+    throw std::invalid_argument("AdaptiveStepper: tolerance outside [1e-12, 0.1]");
+  opt_.tolerance = tolerance;
+  if (ark_->mem)
+    require(ERKStepSStolerances(ark_->mem, tolerance, tolerance), "ERKStepSStolerances");
+}
+
+}  // namespace capflow::capsule

@@ -1,0 +1,91 @@
+// capflow/capsule/adaptive_stepper: explicit Runge-Kutta steps with local error control and a
+// step size that finds the stability limit by itself (SUNDIALS ARKODE, ERKStep).
+//
+// Method: the Cash-Karp 6-stage pair (order 5, embedded order 4; ARKODE_CASH_KARP_6_4_5) with
+// ARKODE's explicit Gustafsson step-size controller, relative and absolute tolerance `tolerance`
+// on every coordinate (positions are O(1) in units of a). An explicit pair also controls the
+// stability limit: beyond it the stiff membrane modes grow and the error estimate rejects the
+// step, so the accepted steps settle just inside the limit. Gustafsson's controller is made for
+// that regime (fewer rejections than the PI and PID controllers there: docs/performance.md).
+//
+// What ARKODE does not offer, done here around it:
+//   * rejection of a state that passed the error test but fails a check (the caller's Check: a
+//     Jacobian sign change, runaway node-to-node oscillation): the step is retried from the
+//     state before it at a quarter of its size (ERKStep treats a positive return of the right-
+//     hand side as unrecoverable, so a failed velocity evaluation is handled the same way);
+//   * a post-step operation (Finish: smoothing, volume correction): when it changes the state,
+//     the integrator is restarted from the changed state with the step it proposed;
+//   * steps that end exactly on breakpoints (ARKODE's stop time, given anew for every step); the
+//     step after one cut short at a breakpoint starts from the last step that was not cut (the
+//     controller would grow it from the short one and overshoot the stability limit).
+// restart() forgets the controller history and keeps only the next step size; the simulation
+// restarts at every checkpoint, so that a resumed run starts from the same integrator state as
+// the run that continued: resumes are bit-identical.
+#pragma once
+
+#include <Eigen/Dense>
+#include <functional>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+namespace capflow::capsule {
+
+struct AdaptiveOptions {
+  double tolerance = 1e-6;  // local error tolerance (relative and absolute), [1e-10, 1e-2]
+  double h_min = 1e-6;      // a step that must fall below this fails (StepFailure)
+  double h_max = 0.1;
+};
+
+// The step size fell below h_min, or a state kept failing its check: the message says why.
+class StepFailure : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class AdaptiveStepper {
+ public:
+  // dy/dt = rhs(t, y); rhs may throw (the step is then retried smaller).
+  using Rhs = std::function<void(double t, const Eigen::VectorXd& y, Eigen::VectorXd* dydt)>;
+  // Post-step operation on an accepted state (may change it).
+  using Finish = std::function<void(Eigen::VectorXd* y)>;
+  // "" for a healthy state at time t, otherwise why it is not.
+  using Check = std::function<std::string(const Eigen::VectorXd& y, double t)>;
+
+  AdaptiveStepper(Rhs rhs, const AdaptiveOptions& options);
+  ~AdaptiveStepper();
+  AdaptiveStepper(const AdaptiveStepper&) = delete;
+  AdaptiveStepper& operator=(const AdaptiveStepper&) = delete;
+
+  // Starts (again) from (t, y); the first step is h (0: ARKODE's estimate from the tolerance).
+  void restart(double t, const Eigen::VectorXd& y, double h);
+
+  struct Step {
+    double t = 0;              // the time reached (t_stop exactly when the step was cut there)
+    double h = 0;              // the step taken
+    int error_rejections = 0;  // attempts refused by the error test
+    int check_rejections = 0;  // attempts refused by `check` or a failed right-hand side
+  };
+  // One accepted step from the current state, ending at t_stop or before; *y receives the state
+  // (after `finish`). Throws StepFailure when no step above h_min passes.
+  Step step(double t_stop, const Finish& finish, const Check& check, Eigen::VectorXd* y);
+
+  double time() const { return t_; }
+  // The step the controller proposes next.
+  double next_step() const;
+  // A new tolerance applies from the next step (the controller history is kept).
+  void set_tolerance(double tolerance);
+  double tolerance() const { return opt_.tolerance; }
+  long rhs_evaluations() const { return rhs_evals_; }
+
+ private:
+  struct Arkode;
+  std::unique_ptr<Arkode> ark_;
+  AdaptiveOptions opt_;
+  double t_ = 0;
+  double h_free_ = 0;      // the last accepted step not cut at t_stop (or the restart's step)
+  double h_pending_ = -1;  // the step given to restart(), before the first step after it
+  long rhs_evals_ = 0;
+};
+
+}  // namespace capflow::capsule

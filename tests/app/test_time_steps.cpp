@@ -1,0 +1,151 @@
+// Adaptive time steps in a run (time.dt "auto"): output times and schedule changes are hit
+// exactly, a resumed run continues bit for bit, and live edits switch between auto and fixed.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "app/simulation.h"
+#include "control/control_file.h"
+#include "output/checkpoint.h"
+#include "process_util.h"
+
+using namespace capflow;
+namespace fs = std::filesystem;
+
+namespace {
+
+control::ControlOptions auto_options(const fs::path& dir, double t_end) {
+  control::ParsedControl p = control::parse_control(R"({
+    "capsule": {"law": "skalak", "C": 1}, "mesh": {"elements": 6, "nb": 6, "division": "cube"},
+    "time": {"dt": "auto"},
+    "ca": [{"ca": 0.2, "hold": 0.13}, {"ramp": {"to": 0.3, "rate": 1.0}}],
+    "steady": {"window": 0.01, "min_hold": 0.0, "tolerance": 1e-9},
+    "output": {"csv_every": 0.05, "checkpoint_every": 0.1}})");
+  p.options.output.dir = dir.string();
+  p.options.time.t_end = t_end;
+  return p.options;
+}
+
+}  // namespace
+
+TEST(TimeSteps, OutputTimesAndScheduleChangesAreHitExactly) {
+  const fs::path d = test::fresh_dir("auto_breakpoints");
+  app::Simulation sim(auto_options(d, 0.4), "");
+  const app::RunSummary s = sim.run();
+  ASSERT_FALSE(s.failed) << s.failure;
+  EXPECT_EQ(s.t, 0.4);
+  const std::vector<double> t = test::csv_column(d / "timeseries.csv", "t");
+  const std::vector<double> dt = test::csv_column(d / "timeseries.csv", "dt");
+  ASSERT_EQ(t.size(), 9u);  // 0, 0.05, ..., 0.4
+  for (size_t i = 0; i < t.size(); ++i) EXPECT_NEAR(t[i], 0.05 * i, 1e-14) << "row " << i;
+  // The steps vary (the first ones are short: the capsule starts to move at rate 1/Ca).
+  EXPECT_LT(*std::min_element(dt.begin() + 1, dt.end()), *std::max_element(dt.begin(), dt.end()));
+  // The hold ended at t = 0.13 exactly and the ramp at 0.23 (a step ended there).
+  const std::string events = test::read_file(d / "events.jsonl");
+  EXPECT_NE(events.find("held for 0.13 (t = 0.13)"), std::string::npos) << events;
+  EXPECT_NE(events.find("ramp reached Ca = 0.3 (t = 0.23)"), std::string::npos) << events;
+  fs::remove_all(d);
+}
+
+TEST(TimeSteps, ResumedAutoStepRunIsBitIdentical) {
+  const fs::path a = test::fresh_dir("auto_full"), b = test::fresh_dir("auto_split");
+  long steps = 0;
+  {
+    app::Simulation sim(auto_options(a, 0.3), "");
+    const app::RunSummary s = sim.run();
+    ASSERT_FALSE(s.failed) << s.failure;
+    steps = s.steps;
+  }
+  {
+    app::Simulation sim(auto_options(b, 0.2), "");
+    ASSERT_FALSE(sim.run().failed);
+  }
+  {
+    app::ResumeOverrides ov;
+    ov.t_end = 0.3;
+    auto sim = app::Simulation::resume(b.string(), ov);
+    EXPECT_EQ(sim->run().steps, steps);
+  }
+  const auto x = [](const fs::path& dir) {
+    return output::Checkpoint::read(app::Simulation::latest_checkpoint(dir.string())).doubles("x");
+  };
+  const std::vector<double> xa = x(a), xb = x(b);
+  ASSERT_EQ(xa.size(), xb.size());
+  EXPECT_EQ(std::memcmp(xa.data(), xb.data(), xa.size() * sizeof(double)), 0);
+  auto strip = [](std::vector<std::string> v) {
+    for (auto& l : v) l = l.substr(0, l.rfind(','));
+    return v;
+  };
+  EXPECT_EQ(strip(test::lines_of(a / "timeseries.csv")),
+            strip(test::lines_of(b / "timeseries.csv")));
+  fs::remove_all(a);
+  fs::remove_all(b);
+}
+
+TEST(TimeSteps, FixedStepsAreTheRk4StepsOfBefore) {
+  // time.dt as a number: RK4 with that step, ending at the step that reaches t_end - dt/2.
+  const fs::path d = test::fresh_dir("fixed_steps");
+  control::ControlOptions o = auto_options(d, 0.1);
+  o.time.adaptive = false;
+  o.time.dt = 0.004;
+  app::Simulation sim(o, "");
+  const app::RunSummary s = sim.run();
+  EXPECT_EQ(s.steps, 25);
+  for (double v : test::csv_column(d / "timeseries.csv", "dt"))
+    if (v != 0) EXPECT_EQ(v, 0.004);
+  fs::remove_all(d);
+}
+
+TEST(TimeSteps, LiveEditsSwitchBetweenAutoAndFixedSteps) {
+  const fs::path d = test::fresh_dir("auto_live");
+  const fs::path ctl = d / "control.json", run = d / "run";
+  const auto control = [](const std::string& time) {
+    return R"({"mesh": {"elements": 6, "nb": 6}, "time": )" + time +
+           R"(, "output": {"csv_every": 0.01}, "numerics": {"threads": 1}, "ca": 0.3})";
+  };
+  test::write_file(ctl, control(R"({"dt": "auto", "t_end": 1000})"));
+  const pid_t pid =
+      test::spawn({CAPFLOW_EXE, "run", ctl.string(), "-o", run.string()}, d / "stderr.log");
+  ASSERT_TRUE(test::wait_for([&] { return test::csv_rows(run / "timeseries.csv") >= 5; }, 60));
+  test::write_file(ctl, control(R"({"dt": 0.0025, "t_end": 1000})"));
+  ASSERT_TRUE(test::wait_for([&] { return test::count_events(run, "edit") >= 1; }, 20));
+  const long rows1 = test::csv_rows(run / "timeseries.csv");
+  ASSERT_TRUE(
+      test::wait_for([&] { return test::csv_rows(run / "timeseries.csv") > rows1 + 3; }, 30));
+  test::write_file(ctl, control(R"({"dt": "auto", "tolerance": 1e-8, "t_end": 1000})"));
+  ASSERT_TRUE(test::wait_for([&] { return test::count_events(run, "edit") >= 2; }, 20));
+  const long rows2 = test::csv_rows(run / "timeseries.csv");
+  ASSERT_TRUE(
+      test::wait_for([&] { return test::csv_rows(run / "timeseries.csv") > rows2 + 3; }, 30));
+  test::write_file(ctl, control(R"({"dt": "auto", "tolerance": 1e-8, "t_end": 1000},
+                                   "run": {"state": "stopped"})"));
+  EXPECT_EQ(test::wait_exit(pid, 30), 0) << test::read_file(d / "stderr.log");
+
+  std::vector<double> t_edit;
+  for (const auto& e : test::events(run))
+    if (e["event"] == "edit") {
+      EXPECT_TRUE(e["accepted"].get<bool>()) << e.dump();
+      t_edit.push_back(e["t"]);
+    }
+  ASSERT_GE(t_edit.size(), 2u);
+  const std::vector<double> t = test::csv_column(run / "timeseries.csv", "t");
+  const std::vector<double> dt = test::csv_column(run / "timeseries.csv", "dt");
+  int fixed = 0, adaptive_after = 0;
+  for (size_t i = 1; i < t.size(); ++i) {
+    if (t[i] > t_edit[0] + 1e-12 && t[i] <= t_edit[1] + 1e-12) {
+      EXPECT_EQ(dt[i], 0.0025) << "t = " << t[i];  // fixed steps from the step after the edit
+      ++fixed;
+    }
+    if (t[i] > t_edit[1] + 1e-12) {
+      EXPECT_NE(dt[i], 0.0025) << "t = " << t[i];
+      ++adaptive_after;
+    }
+  }
+  EXPECT_GT(fixed, 2);
+  EXPECT_GT(adaptive_after, 2);
+  const std::string log = test::read_file(d / "stderr.log");
+  EXPECT_NE(log.find("time.dt \"auto\" -> 0.0025"), std::string::npos) << log;
+  fs::remove_all(d);
+}
