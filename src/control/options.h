@@ -98,6 +98,8 @@ struct SteadyOptions {
                             // may be declared, [0, 1e4]
   bool stop = false;        // "steady.stop": end the run at the steady state of the final level
                             // (after the last schedule segment; a constant "ca" has only that)
+  double solve_tolerance = 1e-7;  // "steady.solve_tolerance": capflow steady's residual, max
+                                  // |F| (node velocity, a G) at a root, [1e-12, 1e-3]
 };
 
 struct Mp4Options {

@@ -551,6 +551,10 @@ std::vector<Field> build_fields() {
   t.push_back(boolean(
       "steady.stop", [](O& o) -> bool& { return o.steady.stop; }, kLive,
       "end the run at the steady state of the final level"));
+  t.push_back(number(
+      "steady.solve_tolerance", [](O& o) -> double& { return o.steady.solve_tolerance; },
+      closed(1e-12, 1e-3), "capflow steady's residual tolerance", "a G", kLive,
+      "capflow steady: largest node velocity of the step-map residual at a steady state"));
   // output
   t.push_back(text(
       "output.dir", [](O& o) -> std::string& { return o.output.dir; }, false, 4096,

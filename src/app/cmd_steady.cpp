@@ -1,0 +1,70 @@
+// capflow steady CONTROL.json [-o DIR] [--overwrite]: steady shapes found directly as roots of
+// the node velocities, level by level of Ca (app/steady_run.h; README, "capflow steady").
+// Signals: SIGINT/SIGTERM/SIGHUP end the branch after the level being solved.
+// Exit codes (app/errors.h): 0 every level solved, 2 invalid input (a rotational flow, a ramp),
+// 4 a level without a steady state, 5 a run file could not be written.
+#include <atomic>
+#include <csignal>
+#include <iostream>
+#include <memory>
+#include <string>
+
+#include "app/commands.h"
+#include "app/steady_run.h"
+#include "control/control_file.h"
+
+namespace capflow::app {
+namespace {
+
+std::atomic<bool> g_stop{false};
+extern "C" void on_steady_signal(int sig) {
+  if (g_stop.load()) {
+    std::signal(sig, SIG_DFL);
+    std::raise(sig);
+    return;
+  }
+  g_stop.store(true);
+}
+
+struct SteadyArgs {
+  std::string control;
+  std::string output_dir;
+  bool overwrite = false;
+};
+
+void steady_cmd(const SteadyArgs& a) {
+  control::ParsedControl parsed;
+  try {
+    parsed = control::load_control_file(a.control);
+  } catch (const control::ControlError& e) {
+    throw UserError(e.what());
+  }
+  if (!a.output_dir.empty()) parsed.options.output.dir = a.output_dir;
+  for (const auto& w : parsed.warnings)
+    if (w.path != "time.dt") std::cerr << "capflow: warning: " << w.str() << "\n";
+  std::signal(SIGXFSZ, SIG_IGN);
+  std::signal(SIGINT, on_steady_signal);
+  std::signal(SIGTERM, on_steady_signal);
+  std::signal(SIGHUP, on_steady_signal);
+  const SteadySummary s = run_steady(parsed.options, a.overwrite, &g_stop);
+  set_exit_code(s.exit_code());
+}
+
+void setup_steady(CLI::App& root) {
+  auto args = std::make_shared<SteadyArgs>();
+  CLI::App* c = root.add_subcommand(
+      "steady", "Find the steady shapes at the control file's levels of Ca (pure straining flows)");
+  c->add_option("control", args->control, "Control file (JSON)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  c->add_option("-o,--output", args->output_dir, "Run directory (overrides output.dir)");
+  c->add_flag("--overwrite", args->overwrite,
+              "Replace the capflow run already in the run directory (its files are removed)");
+  c->callback([args] { steady_cmd(*args); });
+}
+
+}  // namespace
+
+CAPFLOW_COMMAND(6, setup_steady);
+
+}  // namespace capflow::app

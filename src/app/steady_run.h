@@ -1,0 +1,46 @@
+// capflow/app/steady_run: `capflow steady` - steady shapes found directly, level by level.
+//
+// For pure straining flows (symmetric flow.gradient: planar, uniaxial, biaxial extension); a
+// rotational flow is refused (UserError): its steady membrane tank-treads, use `capflow run`.
+// Levels of Ca from the control file's "ca": a number, a list of holds ({"ca": x}) and steps
+// ({"steps": {"to", "by"}}, from the level before; the first level from rest is `by`); a ramp
+// has no levels and is refused. For each level, from the previous steady state (or from rest,
+// or start.from):
+//   1. approach: adaptive time steps (capsule::AdaptiveStepper, time.tolerance) until the
+//      largest node speed is below kApproachSpeed; the accepted steps there measure the
+//      stability limit;
+//   2. solve: capsule::solve_steady (Newton-Krylov on the RK4 step map, h = 0.7x those steps);
+//      when Newton does not converge, the approach goes on to a 4x smaller speed and the solve
+//      is tried again (at most three times) before the level is reported as failed.
+// Outputs, in a run directory like `capflow run`'s (app/run_directory.h: lock, --overwrite):
+//   steady.csv  t,ca,L,S,W,Lc,Sc,Wc,D,area,edge_curvature,tau_max,tau_min (as `capflow run`'s)
+//               then residual (max |F|, a G), speed (max node speed, a G: the volume leak's
+//               dilation), volume_drift, newton, krylov, evaluations (velocity evaluations of
+//               this level), wall_s;  t is the simulated time the approach took in all
+//   checkpoints/ one per steady state (`start.from`, `capflow render`/`figure`, --resume of a
+//               `capflow run`)      events.jsonl (start, steady, failure, end)   run.log
+// A stop request (signal) ends the branch after the current level, with its state kept.
+#pragma once
+
+#include <atomic>
+#include <string>
+
+#include "control/options.h"
+
+namespace capflow::app {
+
+struct SteadySummary {
+  int states = 0;       // steady states found
+  bool failed = false;  // a level had no steady state (exit 4)
+  bool output_failed = false;
+  std::string failure;
+  double wall_s = 0;
+  long evaluations = 0;
+  int exit_code() const;
+};
+
+// UserError (exit 2): a rotational flow, a ramp, an occupied output directory.
+SteadySummary run_steady(const control::ControlOptions& options, bool overwrite,
+                         const std::atomic<bool>* stop = nullptr);
+
+}  // namespace capflow::app

@@ -1,0 +1,175 @@
+#include "capsule/steady_solver.h"
+
+#include <kinsol/kinsol.h>
+#include <kinsol/kinsol_ls.h>
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_context.h>
+#include <sunlinsol/sunlinsol_spgmr.h>
+
+#include <cmath>
+#include <stdexcept>
+
+namespace capflow::capsule {
+
+namespace {
+
+Eigen::Map<Eigen::VectorXd> view(N_Vector v) {
+  return {N_VGetArrayPointer(v), static_cast<Eigen::Index>(N_VGetLength(v))};
+}
+
+// The fixed-point residual of the RK4 map on the reduced node set.
+class StepMap {
+ public:
+  StepMap(const Capsule& cap, double ca, double h) : cap_(cap), ca_(ca), h_(h) {}
+
+  Eigen::Matrix3Xd expand(const Eigen::VectorXd& y) const {
+    const Eigen::Map<const Eigen::Matrix3Xd> at(y.data(), 3, y.size() / 3);
+    Eigen::Matrix3Xd x;
+    cap_.symmetry().expand(at, &x);
+    return x;
+  }
+  Eigen::VectorXd reduce(const Eigen::Matrix3Xd& x) const {
+    const std::vector<int>& t = cap_.symmetry().targets();
+    Eigen::VectorXd y(3 * t.size());
+    for (size_t k = 0; k < t.size(); ++k) y.segment<3>(3 * k) = x.col(t[k]);
+    return y;
+  }
+  // F(y) = (P(Phi_h(E y)) - E y)|targets / h.
+  Eigen::VectorXd residual(const Eigen::VectorXd& y) const {
+    const Eigen::Matrix3Xd x = expand(y);
+    const Eigen::Matrix3Xd k1 = cap_.velocity(x, ca_);
+    const Eigen::Matrix3Xd k2 = cap_.velocity(x + 0.5 * h_ * k1, ca_);
+    const Eigen::Matrix3Xd k3 = cap_.velocity(x + 0.5 * h_ * k2, ca_);
+    const Eigen::Matrix3Xd k4 = cap_.velocity(x + h_ * k3, ca_);
+    Eigen::Matrix3Xd x1 = x + (h_ / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+    cap_.finish_step(&x1);
+    x1 = rescale_to_volume(cap_.mesh(), x1, cap_.initial_volume());
+    return (reduce(x1) - y) / h_;
+  }
+
+ private:
+  const Capsule& cap_;
+  double ca_, h_;
+};
+
+struct Kinsol {
+  SUNContext ctx = nullptr;
+  N_Vector y = nullptr, scale = nullptr;
+  SUNLinearSolver ls = nullptr;
+  void* mem = nullptr;
+  const StepMap* map = nullptr;
+  std::string error, message;
+
+  static int f(N_Vector y, N_Vector fy, void* data) {
+    auto* k = static_cast<Kinsol*>(data);
+    try {
+      view(fy) = k->map->residual(view(y));
+      return view(fy).allFinite() ? 0 : 1;
+    } catch (const std::exception& e) {
+      k->error = e.what();
+      return 1;  // recoverable: KINSOL's line search backs off
+    }
+  }
+  static void on_error(int, const char*, const char*, char* msg, void* data) {
+    static_cast<Kinsol*>(data)->message = msg;
+  }
+  ~Kinsol() {
+    if (mem) KINFree(&mem);
+    if (ls) SUNLinSolFree(ls);
+    if (y) N_VDestroy(y);
+    if (scale) N_VDestroy(scale);
+    if (ctx) SUNContext_Free(&ctx);
+  }
+};
+
+void require(int flag, const char* call) {
+  if (flag < 0)
+    throw std::runtime_error(std::string("KINSOL ") + call + " failed (flag " +
+                             std::to_string(flag) + ")");
+}
+
+// KINSOL's own sentence for its return flag.
+std::string describe(int flag) {
+  switch (flag) {
+    case KIN_SUCCESS:
+      return "converged";
+    case KIN_INITIAL_GUESS_OK:
+      return "the initial state is already a root";
+    case KIN_STEP_LT_STPTOL:
+      return "the Newton steps became negligible before the residual met the tolerance";
+    case KIN_LINESEARCH_NONCONV:
+      return "the line search found no decrease of the residual";
+    case KIN_MAXITER_REACHED:
+      return "the Newton iterations reached their limit";
+    case KIN_MXNEWT_5X_EXCEEDED:
+      return "five Newton steps in a row were too long";
+    case KIN_LINSOLV_NO_RECOVERY:
+    case KIN_LINIT_FAIL:
+    case KIN_LSOLVE_FAIL:
+      return "GMRES failed";
+    case KIN_SYSFUNC_FAIL:
+    case KIN_REPTD_SYSFUNC_ERR:
+    case KIN_FIRST_SYSFUNC_ERR:
+      return "the velocity evaluation failed";
+    default:
+      return "KINSOL stopped (flag " + std::to_string(flag) + ")";
+  }
+}
+
+}  // namespace
+
+bool is_pure_straining(const Eigen::Matrix3d& g) {
+  const double big = g.cwiseAbs().maxCoeff();
+  return big > 0 && (g - g.transpose()).cwiseAbs().maxCoeff() <= 1e-12 * big;
+}
+
+SteadySolution solve_steady(const Capsule& cap, const Eigen::Matrix3Xd& x0, double ca,
+                            const SteadySolveOptions& o) {
+  if (!(o.step > 0)) throw std::invalid_argument("solve_steady: step must be > 0");
+  if (!(ca > 0)) throw std::invalid_argument("solve_steady: Ca must be > 0");
+  const long evals_before = cap.velocity_evaluations();
+  const StepMap map(cap, ca, o.step);
+  const Eigen::VectorXd y0 = map.reduce(x0);
+
+  Kinsol k;
+  k.map = &map;
+  require(SUNContext_Create(nullptr, &k.ctx), "SUNContext_Create");
+  k.y = N_VNew_Serial(y0.size(), k.ctx);
+  k.scale = N_VNew_Serial(y0.size(), k.ctx);
+  if (!k.y || !k.scale) throw std::runtime_error("KINSOL: N_VNew_Serial failed");
+  view(k.y) = y0;
+  N_VConst(1.0, k.scale);
+  k.mem = KINCreate(k.ctx);
+  if (!k.mem) throw std::runtime_error("KINSOL: KINCreate failed");
+  require(KINInit(k.mem, &Kinsol::f, k.y), "KINInit");
+  require(KINSetUserData(k.mem, &k), "KINSetUserData");
+  require(KINSetErrHandlerFn(k.mem, &Kinsol::on_error, &k), "KINSetErrHandlerFn");
+  require(KINSetPrintLevel(k.mem, 0), "KINSetPrintLevel");
+  require(KINSetFuncNormTol(k.mem, o.tolerance), "KINSetFuncNormTol");
+  require(KINSetScaledStepTol(k.mem, 1e-14), "KINSetScaledStepTol");
+  require(KINSetNumMaxIters(k.mem, o.max_newton), "KINSetNumMaxIters");
+  require(KINSetMaxSetupCalls(k.mem, 1), "KINSetMaxSetupCalls");
+  k.ls = SUNLinSol_SPGMR(k.y, SUN_PREC_NONE, o.max_krylov, k.ctx);
+  if (!k.ls) throw std::runtime_error("KINSOL: SUNLinSol_SPGMR failed");
+  require(SUNLinSol_SPGMRSetMaxRestarts(k.ls, 1), "SUNLinSol_SPGMRSetMaxRestarts");
+  require(KINSetLinearSolver(k.mem, k.ls, nullptr), "KINSetLinearSolver");
+
+  const int flag = KINSol(k.mem, k.y, KIN_LINESEARCH, k.scale, k.scale);
+  SteadySolution s;
+  long nni = 0, nli = 0;
+  KINGetNumNonlinSolvIters(k.mem, &nni);
+  KINGetNumLinIters(k.mem, &nli);
+  s.newton = static_cast<int>(nni);
+  s.krylov = nli;
+  const Eigen::VectorXd y = view(k.y);
+  s.x = map.expand(y);
+  s.residual = map.residual(y).cwiseAbs().maxCoeff();
+  s.speed = cap.velocity(s.x, ca).cwiseAbs().maxCoeff();
+  s.converged = (flag == KIN_SUCCESS || flag == KIN_INITIAL_GUESS_OK) && s.residual <= o.tolerance;
+  s.message = describe(flag);
+  if (!k.error.empty()) s.message += " (" + k.error + ")";
+  s.evaluations = cap.velocity_evaluations() - evals_before;
+  return s;
+}
+
+}  // namespace capflow::capsule

@@ -1,0 +1,58 @@
+// capflow/capsule/steady_solver: steady shapes in pure straining flows, found as roots.
+//
+// In a flow with a symmetric velocity gradient a steady capsule's membrane is at rest, so its
+// shape is a root of the node velocities, u(X; Ca) = 0 (method.md sec. 9). The root is found as
+// a fixed point of the time stepper instead of u itself ("time-stepper based Newton-Krylov"):
+//     F(y) = (P(Phi_h(E y)) - E y)|targets / h,
+// y the positions of the symmetry-reduced node set (capsule/symmetry.h: the targets), E their
+// expansion to every node, Phi_h one classical RK4 step of size h with the capsule's
+// end-of-step smoothing, P the rescaling about the centroid to the reference volume (the
+// volume family of steady states is removed: the volume leak of the discretisation is absorbed
+// by P as the bordering unknown p of method.md would). F ~ u at the targets for small h; its
+// Jacobian is (R(h J) - 1)/h with R the RK4 stability function: the stiff membrane modes, which
+// make GMRES on J itself crawl, are mapped into a cluster around -1/h when h is near the
+// stability limit, and GMRES only has to resolve the few slow shape modes.
+// Newton's method with a line search and GMRES (SUNDIALS KINSOL, SPGMR, difference-quotient
+// Jacobian-vector products) solves F = 0 to `tolerance` in the max norm.
+// Ca is a parameter: the steady state does not depend on the viscosity ratio (method.md sec. 9).
+#pragma once
+
+#include <Eigen/Dense>
+#include <functional>
+#include <string>
+
+#include "capsule/capsule.h"
+
+namespace capflow::capsule {
+
+struct SteadySolveOptions {
+  double step = 0;          // h of the RK4 map (> 0): about 0.7x the adaptive steps at the
+                            // stability limit (RK4's real interval is 0.75x Cash-Karp's)
+  double tolerance = 1e-7;  // max |F| at the root (velocity units, a G)
+  int max_newton = 30;
+  int max_krylov = 100;  // GMRES subspace per Newton step (one restart allowed)
+  // Called after every Newton iteration with (iteration, max |F|); returning false stops.
+  std::function<bool(int, double)> progress;
+};
+
+struct SteadySolution {
+  Eigen::Matrix3Xd x;  // the last iterate (every node)
+  bool converged = false;
+  double residual = 0;   // max |F| at x
+  double speed = 0;      // max |u| at x (includes the volume leak's slow dilation)
+  int newton = 0;        // Newton iterations
+  long krylov = 0;       // GMRES iterations
+  long evaluations = 0;  // velocity evaluations
+  std::string message;   // why it stopped
+};
+
+// Solves from x0 at capillary number ca. `cap` provides the mesh, the law, the flow, the
+// smoothing, the symmetry and the reference volume (its own state is not changed).
+SteadySolution solve_steady(const Capsule& cap, const Eigen::Matrix3Xd& x0, double ca,
+                            const SteadySolveOptions& options);
+
+// True when the flow's velocity gradient is symmetric (a pure straining flow), in which steady
+// membranes are at rest; simple shear and other rotational flows are not.
+bool is_pure_straining(const Eigen::Matrix3d& gradient);
+
+}  // namespace capflow::capsule

@@ -1,0 +1,121 @@
+// capflow steady (app/steady_run.h): a CI-sized steady state agrees with the time march to the
+// march's steady tolerance and a march started from it stays there; rotational flows and ramps
+// are refused; levels from steps.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "app/errors.h"
+#include "app/run_directory.h"
+#include "app/simulation.h"
+#include "app/steady_run.h"
+#include "control/control_file.h"
+#include "process_util.h"
+
+using namespace capflow;
+namespace fs = std::filesystem;
+
+namespace {
+
+control::ControlOptions parse(const std::string& text, const fs::path& dir) {
+  control::ParsedControl p = control::parse_control(text);
+  p.options.output.dir = dir.string();
+  return p.options;
+}
+
+const char* const kCase = R"({"capsule": {"law": "skalak", "C": 1},
+  "mesh": {"elements": 6, "nb": 8, "division": "diagonal"}, "flow": {"type": "planar-extension"},
+  "ca": 0.3, "output": {"csv_every": 0.5, "mp4": false}})";
+
+}  // namespace
+
+TEST(Steady, AgreesWithTheTimeMarchAndAMarchFromItStaysThere) {
+  const fs::path ds = test::fresh_dir("steady_solve"), dm = test::fresh_dir("steady_march"),
+                 dr = test::fresh_dir("steady_restart");
+  const app::SteadySummary s = app::run_steady(parse(kCase, ds), false);
+  ASSERT_EQ(s.states, 1) << s.failure;
+  ASSERT_EQ(s.exit_code(), 0);
+  const double D = test::csv_column(ds / "steady.csv", "D").at(0);
+  const double L = test::csv_column(ds / "steady.csv", "L").at(0);
+  const double residual = test::csv_column(ds / "steady.csv", "residual").at(0);
+  EXPECT_LE(residual, 1e-7);  // the default steady.solve_tolerance, reported
+  EXPECT_GT(test::csv_column(ds / "steady.csv", "newton").at(0), 0);
+
+  // The time march (default adaptive steps) to its steady state.
+  control::ControlOptions m = parse(kCase, dm);
+  m.steady.stop = true;
+  m.time.t_end = 40;
+  {
+    app::Simulation sim(m, "");
+    const app::RunSummary r = sim.run();
+    ASSERT_EQ(r.steady_states, 1) << r.reason;
+    std::printf("steady: D %.7f L %.7f; march (steady test at t = %.2f): D %.7f L %.7f\n", D, L,
+                r.t, r.D, r.L);
+    // The march stops when |dL/dt| etc. < 1e-4 over its window: it is that close to the root.
+    EXPECT_NEAR(r.D, D, 2e-4);
+    EXPECT_NEAR(r.L, L, 2e-4);
+  }
+  // Started from the steady state, a march stays within the steady tolerance of it.
+  control::ControlOptions r = parse(kCase, dr);
+  r.start.from = ds.string();
+  r.time.t_end = 3.0;
+  app::Simulation sim(r, "");
+  const app::RunSummary e = sim.run();
+  ASSERT_FALSE(e.failed) << e.failure;
+  const std::vector<double> Ls = test::csv_column(dr / "timeseries.csv", "L");
+  const std::vector<double> ts = test::csv_column(dr / "timeseries.csv", "t");
+  for (size_t i = 1; i < Ls.size(); ++i)
+    EXPECT_LE(std::abs(Ls[i] - L) / (ts[i] - ts[0]), 1e-4) << "t = " << ts[i];
+  fs::remove_all(ds);
+  fs::remove_all(dm);
+  fs::remove_all(dr);
+}
+
+TEST(Steady, RotationalFlowsAndRampsAreRefused) {
+  const fs::path d = test::fresh_dir("steady_refused");
+  const std::string shear = R"({"mesh": {"elements": 6, "nb": 6}, "flow": {"type": "simple-shear"},
+    "ca": 0.3})";
+  try {
+    app::run_steady(parse(shear, d), false);
+    FAIL() << "simple shear accepted";
+  } catch (const app::UserError& e) {
+    EXPECT_NE(std::string(e.what()).find("tank-treading"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("capflow run"), std::string::npos) << e.what();
+  }
+  const std::string ramp = R"({"mesh": {"elements": 6, "nb": 6},
+    "ca": [{"ca": 0.1, "hold": "steady"}, {"ramp": {"to": 0.3, "rate": 0.1}}]})";
+  try {
+    app::run_steady(parse(ramp, d), false);
+    FAIL() << "ramp accepted";
+  } catch (const app::UserError& e) {
+    EXPECT_NE(std::string(e.what()).find("ramp"), std::string::npos) << e.what();
+  }
+  // Through the executable: exit 2 with the message.
+  const fs::path ctl = d / "shear.json";
+  test::write_file(ctl, shear);
+  EXPECT_EQ(test::run_capflow({CAPFLOW_EXE, "steady", ctl.string(), "-o", (d / "o").string()},
+                              d / "log", 60),
+            2);
+  fs::remove_all(d);
+}
+
+TEST(Steady, StepsGiveOneStateAndOneCheckpointPerLevel) {
+  const fs::path d = test::fresh_dir("steady_steps");
+  const app::SteadySummary s = app::run_steady(
+      parse(R"({"capsule": {"law": "skalak", "C": 1}, "mesh": {"elements": 6, "nb": 6,
+        "division": "diagonal"}, "ca": [{"ca": 0.3}, {"steps": {"to": 0.4, "by": 0.05}}],
+        "output": {"mp4": false}})",
+            d),
+      false);
+  ASSERT_EQ(s.states, 3) << s.failure;
+  const std::vector<double> ca = test::csv_column(d / "steady.csv", "ca");
+  const std::vector<double> D = test::csv_column(d / "steady.csv", "D");
+  ASSERT_EQ(ca.size(), 3u);
+  EXPECT_DOUBLE_EQ(ca[0], 0.3);
+  EXPECT_DOUBLE_EQ(ca[1], 0.35);
+  EXPECT_DOUBLE_EQ(ca[2], 0.4);
+  EXPECT_LT(D[0], D[1]);  // stronger flow, longer capsule
+  EXPECT_LT(D[1], D[2]);
+  EXPECT_EQ(app::RunDirectory::checkpoints(d).size(), 3u);
+  fs::remove_all(d);
+}
