@@ -6,7 +6,9 @@ NB=10, from rest) once per setting and prints a markdown table: wall time, steps
 velocity evaluations, and the differences of D, L, S, W and the volume from a reference run with
 a small fixed step (all runs end at the same t_end, so the states are compared at one time).
 With --steady every run also stops at the steady state (steady.stop) and the table gives the
-time it fired; wall times are medians over --repeat runs, the settings alternated.
+time it fired, and `capflow steady` solves for the same state (one more row: its wall time,
+velocity evaluations, and D, L, S, W against the reference march's final state); wall times are
+medians over --repeat runs, the settings alternated.
 
   benchmarks/capsule/time_stepping.py [--capflow build/src/app/capflow] [--t-end 3]
       [--reference 1e-3] [--settings auto:1e-6,fixed:8e-3] [--steady] [--repeat 3]
@@ -45,6 +47,20 @@ def run(capflow, control, workdir, name):
     return end, rows[-1]
 
 
+def solve(capflow, control, workdir):
+    path = os.path.join(workdir, "steady.json")
+    with open(path, "w") as f:
+        json.dump(control, f)
+    out = os.path.join(workdir, "steady")
+    p = subprocess.run([capflow, "steady", path, "-o", out, "--overwrite"], capture_output=True,
+                       text=True)
+    if p.returncode != 0:
+        sys.exit("capflow steady failed:\n%s" % p.stderr[-2000:])
+    end = [json.loads(l) for l in open(os.path.join(out, "events.jsonl"))
+           if '"event":"end"' in l.replace(" ", "")][-1]
+    return end, list(csv.DictReader(open(os.path.join(out, "steady.csv"))))[-1]
+
+
 def setting(s):
     kind, value = s.split(":")
     if kind == "auto":
@@ -77,6 +93,8 @@ def main():
                 c["time"] = dict(time, t_end=a.t_end)
                 end, last = run(a.capflow, c, work, "run_%d" % len(results.get(s, [])))
                 results.setdefault(s, []).append((end, last))
+            if a.steady:
+                results.setdefault("steady", []).append(solve(a.capflow, base, work))
     ref_end, ref = results[settings[0][0]][0]
     print("| run (t_end %g%s) | wall s (median of %d) | t reached | steps | rejected | velocity evaluations "
           "| D | dD | dL | dS | dW | d(volume) |" % (a.t_end, ", steady.stop" if a.steady else "", a.repeat))
@@ -95,6 +113,13 @@ def main():
             end["velocity_evaluations"], float(last["D"]),
             " | ".join("%.1e" % d for d in diffs)))
     if a.steady:
+        runs = results["steady"]
+        end, row = runs[0]
+        wall = statistics.median(r[0]["wall_s"] for r in runs)
+        diffs = [abs(float(row[k]) - float(ref[k])) for k in ("D", "L", "S", "W")]
+        print("| capflow steady (residual %s) | %.1f | - | - | - | %d | %.8f | %s | - |" % (
+            row["residual"], wall, end["velocity_evaluations"], float(row["D"]),
+            " | ".join("%.1e" % d for d in diffs)))
         print("\n(with steady.stop the runs end at different times: the differences are at "
               "different t when the steady test fires at different steps)")
     else:

@@ -43,6 +43,8 @@ constexpr double kApproachSpeed = 2e-2;   // largest node speed (a G) that ends 
 constexpr double kMapStepFactor = 0.7;    // RK4 map step / adaptive (Cash-Karp) steps
 constexpr double kMaxApproachTime = 400;  // simulated time the approach may take per level
 constexpr int kSolveAttempts = 3;
+constexpr int kMinApproachSteps = 10;  // for the controller to reach the stability limit
+constexpr int kCoarseNb = 8;           // the first level is solved on NB=8 first
 
 const char* const kTimeseriesHeader =
     "t,ca,D,L,S,W,Lc,Sc,Wc,area,volume,edge_curvature,tau_max,tau_min,inclination_deg,"
@@ -83,6 +85,22 @@ std::string fixed(double v, int digits) {
   return s.str();
 }
 
+// A mesh, its capsule and the state on it.
+struct Grid {
+  std::unique_ptr<geometry::Mesh> mesh;
+  std::unique_ptr<capsule::Capsule> cap;
+  Eigen::Matrix3Xd x;
+  double h_last = 0;  // the last adaptive step size measured on this grid
+};
+
+Grid make_grid(const control::ControlOptions& o) {
+  Grid g;
+  g.mesh = control::make_mesh(o.mesh);
+  g.cap = std::make_unique<capsule::Capsule>(*g.mesh, o.law, o.flow, control::dynamics_options(o));
+  g.x = g.cap->positions();
+  return g;
+}
+
 class SteadyRun {
  public:
   SteadyRun(const control::ControlOptions& o, bool overwrite) : opt_(o) {
@@ -101,9 +119,7 @@ class SteadyRun {
     dir_->open_records(true, kTimeseriesHeader, kSteadyHeader);
     log_ = std::make_unique<RunLog>(*dir_, isatty(STDERR_FILENO));
     dir_->write_text("control.json", control::to_json_text(opt_));
-    mesh_ = control::make_mesh(o.mesh);
-    cap_ = std::make_unique<capsule::Capsule>(*mesh_, o.law, o.flow, control::dynamics_options(o));
-    x_ = cap_->positions();
+    fine_ = make_grid(o);
     if (!o.start.from.empty()) start_from();
   }
 
@@ -116,6 +132,19 @@ class SteadyRun {
         break;
       }
       const bool ok = solve_level(levels_[i], stop);
+      if (!ok && stop && stop->load()) {
+        say("stopped by signal: Ca = " + fixed(levels_[i], 6) + " not finished");
+        break;
+      }
+      if (!ok && approach_failed_ && sum.states > 0) {
+        // The time steps themselves fail (runaway node-to-node oscillation, a Jacobian sign
+        // change) where the branch was continued from a steady state: the mesh no longer
+        // resolves the shape.
+        sum.resolution_limit = true;
+        sum.failure = failure_;
+        say("the branch ends at its resolution limit (raise mesh.nb to go on): " + failure_);
+        break;
+      }
       if (!ok) {
         sum.failed = true;
         sum.failure = failure_;
@@ -124,7 +153,7 @@ class SteadyRun {
       ++sum.states;
     }
     sum.wall_s = wall();
-    sum.evaluations = cap_->velocity_evaluations();
+    sum.evaluations = evaluations_;
     std::ostringstream m;
     m << "end: " << sum.states << " steady state" << (sum.states == 1 ? "" : "s") << " of "
       << levels_.size() << ", " << sum.evaluations << " velocity evaluations, wall "
@@ -133,6 +162,7 @@ class SteadyRun {
     log_->event(Record()
                     .set("event", "end")
                     .set("states", sum.states)
+                    .set("resolution_limit", sum.resolution_limit)
                     .set("exit_code", sum.exit_code())
                     .set("velocity_evaluations", sum.evaluations)
                     .set("wall_s", sum.wall_s),
@@ -145,13 +175,20 @@ class SteadyRun {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   }
   void say(const std::string& s) { log_->say(s); }
+  // At most one progress line per second on a terminal, every 10 s into a log.
+  bool progress_due() {
+    const double now = wall();
+    if (now - last_progress_ < (log_->tty() ? 1.0 : 10.0)) return false;
+    last_progress_ = now;
+    return true;
+  }
 
   void announce() {
     std::ostringstream m;
     m << "capflow steady: " << membrane::to_string(opt_.law.kind) << ", " << opt_.flow.name()
       << ", NE=" << opt_.mesh.elements << " NB=" << opt_.mesh.nb << ", " << levels_.size()
       << " level" << (levels_.size() == 1 ? "" : "s") << " of Ca from " << levels_.front() << " to "
-      << levels_.back() << ", symmetry targets " << cap_->symmetry().targets().size() << " -> "
+      << levels_.back() << ", symmetry targets " << fine_.cap->symmetry().targets().size() << " -> "
       << dir_->path().string();
     say(m.str());
     log_->event(Record().set("event", "start").set_json("control", control::to_json_text(opt_)),
@@ -160,32 +197,31 @@ class SteadyRun {
 
   void start_from() {
     const RunCheckpoint src = read_latest_checkpoint(opt_.start.from);
-    Eigen::Matrix3Xd x = geometry::resample_surface(*src.mesh, src.x, *mesh_);
-    if (!x.allFinite())
+    fine_.x = resampled(*src.mesh, src.x, fine_);
+    if (!fine_.x.allFinite())
       throw UserError(src.path + ": the stored shape does not resample to a finite one");
-    x_ = capsule::rescale_to_volume(*mesh_, x, cap_->initial_volume());
     say("initial shape from " + src.path + " (Ca = " + std::to_string(src.ca) + ")");
   }
 
-  // Adaptive time steps at Ca = ca from x_ until the node speed is below `speed`. Returns the
-  // median of the last accepted steps (0 when none), or -1 when the march failed.
-  double approach(double ca, double speed, const std::atomic<bool>* stop) {
+  // Adaptive time steps on grid g at Ca = ca from g.x until the node speed is below `speed`.
+  // Returns the median of the last accepted steps (0 when none), or -1 when the march failed.
+  double approach(Grid& g, double ca, double speed, const std::atomic<bool>* stop) {
     capsule::AdaptiveOptions ao;
     ao.tolerance = opt_.time.tolerance;
     capsule::AdaptiveStepper st(
         [&](double, const Eigen::VectorXd& y, Eigen::VectorXd* d) {
           const Eigen::Matrix3Xd u =
-              cap_->velocity(Eigen::Map<const Eigen::Matrix3Xd>(y.data(), 3, y.size() / 3), ca);
+              g.cap->velocity(Eigen::Map<const Eigen::Matrix3Xd>(y.data(), 3, y.size() / 3), ca);
           *d = Eigen::Map<const Eigen::VectorXd>(u.data(), u.size());
         },
         ao);
-    capsule::HealthMonitor health(*mesh_, x_);
-    Eigen::VectorXd y = Eigen::Map<const Eigen::VectorXd>(x_.data(), x_.size());
-    st.restart(t_, y, h_last_);
+    capsule::HealthMonitor health(*g.mesh, g.x);
+    Eigen::VectorXd y = Eigen::Map<const Eigen::VectorXd>(g.x.data(), g.x.size());
+    st.restart(t_, y, g.h_last);
     const double t0 = t_;
     std::vector<double> steps;
     double v = std::numeric_limits<double>::infinity();
-    while (v > speed) {
+    while (v > speed || steps.size() < kMinApproachSteps) {
       if ((stop && stop->load()) || t_ - t0 > kMaxApproachTime) break;
       const Eigen::VectorXd before = y;
       capsule::AdaptiveStepper::Step s;
@@ -195,7 +231,7 @@ class SteadyRun {
             [&](Eigen::VectorXd* z) {
               Eigen::Map<Eigen::Matrix3Xd> xz(z->data(), 3, z->size() / 3);
               Eigen::Matrix3Xd xf = xz;
-              cap_->finish_step(&xf);
+              g.cap->finish_step(&xf);
               xz = xf;
             },
             [&](const Eigen::VectorXd& z, double t) {
@@ -212,46 +248,99 @@ class SteadyRun {
       ++steps_;
       v = (y - before).cwiseAbs().maxCoeff() / s.h;
       steps.push_back(s.h);
+      if (progress_due()) {
+        std::ostringstream m;
+        m << "Ca=" << ca << " approach: t=" << fixed(t_ - t0, 3) << " node speed "
+          << std::scientific << std::setprecision(2) << v << " (until " << speed << "), dt " << s.h;
+        log_->status(m.str());
+      }
     }
-    x_ = Eigen::Map<const Eigen::Matrix3Xd>(y.data(), 3, y.size() / 3);
-    if (steps.empty()) return h_last_;
+    g.x = Eigen::Map<const Eigen::Matrix3Xd>(y.data(), 3, y.size() / 3);
+    if (steps.empty()) return g.h_last;
     const size_t n = std::min<size_t>(steps.size(), 10);
     std::vector<double> last(steps.end() - n, steps.end());
     std::sort(last.begin(), last.end());
-    h_last_ = last[n / 2];
-    return h_last_;
+    g.h_last = last[n / 2];
+    return g.h_last;
+  }
+
+  // Approach and Newton on grid g, up to kSolveAttempts times. False when stopped or when the
+  // approach failed (failure_ says why); otherwise *sol is the last solve (failure_ says why
+  // when it did not converge).
+  bool solve_on(Grid& g, double ca, const std::atomic<bool>* stop, capsule::SteadySolution* sol,
+                int* newton, long* krylov) {
+    double speed = kApproachSpeed;
+    for (int attempt = 0; attempt < kSolveAttempts; ++attempt, speed /= 4) {
+      const double h = approach(g, ca, speed, stop);
+      if (h < 0) {
+        failure_ = "the approach failed: " + failure_;
+        approach_failed_ = true;
+        return false;
+      }
+      if (stop && stop->load()) return false;
+      capsule::SteadySolveOptions so;
+      so.step = kMapStepFactor * h;
+      so.tolerance = opt_.steady.solve_tolerance;
+      so.stop = stop;
+      *sol = capsule::solve_steady(*g.cap, g.x, ca, so);
+      *newton += sol->newton;
+      *krylov += sol->krylov;
+      std::ostringstream m;
+      m << "Ca = " << ca << " (NB=" << g.mesh->nb() << "): Newton "
+        << (sol->converged ? "converged" : "did not converge") << " (" << sol->message << ") in "
+        << sol->newton << " iterations, " << sol->krylov << " GMRES iterations, residual "
+        << std::scientific << std::setprecision(2) << sol->residual << " (map step " << so.step
+        << ", approach to t = " << std::defaultfloat << t_ << ")";
+      say(m.str());
+      if (sol->converged) {
+        g.x = sol->x;
+        return true;
+      }
+      if (stop && stop->load()) return false;
+    }
+    failure_ =
+        "no steady state found: " + sol->message + ", residual " + std::to_string(sol->residual);
+    return true;
+  }
+
+  // The first level from rest on a fine grid: solved on NB=8 first (cheap evaluations for the
+  // long approach from the sphere) and resampled onto the fine grid as its starting state.
+  void coarse_start(double ca, const std::atomic<bool>* stop, int* newton, long* krylov,
+                    long* evaluations) {
+    control::ControlOptions co = opt_;
+    co.mesh.nb = kCoarseNb;
+    Grid coarse = make_grid(co);
+    capsule::SteadySolution sol;
+    const bool ran = solve_on(coarse, ca, stop, &sol, newton, krylov);
+    *evaluations += coarse.cap->velocity_evaluations();
+    if (!ran || !sol.converged) {
+      if (!(stop && stop->load()))
+        say("the NB=" + std::to_string(kCoarseNb) + " start found no steady state (" + failure_ +
+            "): from rest on NB=" + std::to_string(opt_.mesh.nb));
+      failure_.clear();
+      return;
+    }
+    fine_.x = resampled(*coarse.mesh, coarse.x, fine_);
+    say("Ca = " + fixed(ca, 6) + ": the NB=" + std::to_string(kCoarseNb) +
+        " steady state resampled onto NB=" + std::to_string(opt_.mesh.nb));
   }
 
   bool solve_level(double ca, const std::atomic<bool>* stop) {
     const auto t_level = std::chrono::steady_clock::now();
-    const long evals0 = cap_->velocity_evaluations();
-    double speed = kApproachSpeed;
-    capsule::SteadySolution sol;
+    const long evals0 = fine_.cap->velocity_evaluations();
+    long evaluations = 0;
     int newton = 0;
     long krylov = 0;
-    for (int attempt = 0; attempt < kSolveAttempts; ++attempt, speed /= 4) {
-      const double h = approach(ca, speed, stop);
-      if (h < 0) return fail(ca, "the approach failed: " + failure_);
-      if (stop && stop->load()) return fail(ca, "stopped by signal during the approach");
-      capsule::SteadySolveOptions so;
-      so.step = kMapStepFactor * h;
-      so.tolerance = opt_.steady.solve_tolerance;
-      sol = capsule::solve_steady(*cap_, x_, ca, so);
-      newton += sol.newton;
-      krylov += sol.krylov;
-      std::ostringstream m;
-      m << "Ca = " << ca << ": Newton " << (sol.converged ? "converged" : "did not converge")
-        << " (" << sol.message << ") in " << sol.newton << " iterations, " << sol.krylov
-        << " GMRES iterations, residual " << std::scientific << std::setprecision(2) << sol.residual
-        << " (map step " << so.step << ", approach to t = " << std::defaultfloat << t_ << ")";
-      say(m.str());
-      if (sol.converged) break;
-    }
-    if (!sol.converged)
-      return fail(ca, "no steady state found: " + sol.message + ", residual " +
-                          std::to_string(sol.residual));
-    x_ = sol.x;
-    write_state(ca, sol, newton, krylov, cap_->velocity_evaluations() - evals0,
+    if (states_ == 0 && opt_.start.from.empty() && opt_.mesh.nb > kCoarseNb)
+      coarse_start(ca, stop, &newton, &krylov, &evaluations);
+    if (stop && stop->load()) return false;
+    capsule::SteadySolution sol;
+    const bool ran = solve_on(fine_, ca, stop, &sol, &newton, &krylov);
+    if (stop && stop->load()) return false;
+    evaluations += fine_.cap->velocity_evaluations() - evals0;
+    evaluations_ += evaluations;
+    if (!ran || !sol.converged) return fail(ca, failure_);
+    write_state(ca, sol, newton, krylov, evaluations,
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t_level).count());
     return true;
   }
@@ -266,9 +355,9 @@ class SteadyRun {
   void write_state(double ca, const capsule::SteadySolution& sol, int newton, long krylov,
                    long evaluations, double wall_s) {
     diagnostics::ShapeOptions so;
-    const diagnostics::ShapeDiagnostics d = diagnostics::measure_shape(*mesh_, x_, so);
-    const membrane::MembraneFields f = cap_->fields(x_);
-    const double drift = d.volume / cap_->initial_volume() - 1.0;
+    const diagnostics::ShapeDiagnostics d = diagnostics::measure_shape(*fine_.mesh, fine_.x, so);
+    const membrane::MembraneFields f = fine_.cap->fields(fine_.x);
+    const double drift = d.volume / fine_.cap->initial_volume() - 1.0;
     char buf[768];
     std::snprintf(buf, sizeof buf,
                   "%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,"
@@ -307,12 +396,12 @@ class SteadyRun {
     c.options.time.t_end = std::max(opt_.time.t_end, t_ + 1.0);
     c.control = control::to_json_text(c.options);
     c.control_file = c.control;
-    c.x = x_;
+    c.x = fine_.x;
     c.t = t_;
     c.steps = steps_;
     c.ca = ca;
     c.schedule = control::CaScheduler(c.options.ca, c.options.steady, t_, ca).state();
-    const capsule::HealthMonitor h(*mesh_, x_);
+    const capsule::HealthMonitor h(*fine_.mesh, fine_.x);
     c.health_normals = h.normals();
     c.health_flags = h.flags();
     c.wall_s = wall();
@@ -323,17 +412,26 @@ class SteadyRun {
     return path.string();
   }
 
+  // x on `from`'s mesh carried onto grid g's (geometry::resample_surface), at the reference
+  // volume.
+  static Eigen::Matrix3Xd resampled(const geometry::Mesh& from, const Eigen::Matrix3Xd& x,
+                                    const Grid& g) {
+    const Eigen::Matrix3Xd y = geometry::resample_surface(from, x, *g.mesh);
+    return y.allFinite() ? capsule::rescale_to_volume(*g.mesh, y, g.cap->initial_volume()) : y;
+  }
+
   control::ControlOptions opt_;
   std::vector<double> levels_;
   std::unique_ptr<RunDirectory> dir_;
   std::unique_ptr<RunLog> log_;
-  std::unique_ptr<geometry::Mesh> mesh_;
-  std::unique_ptr<capsule::Capsule> cap_;
-  Eigen::Matrix3Xd x_;
-  double t_ = 0;       // simulated time of all approaches
-  long steps_ = 0;     // their steps
-  double h_last_ = 0;  // the last adaptive step size measured
+  Grid fine_;       // the control file's mesh
+  double t_ = 0;    // simulated time of all approaches
+  long steps_ = 0;  // their steps
   long states_ = 0;
+  double last_progress_ = 0;
+  long evaluations_ = 0;
+  bool approach_failed_ = false;  // the last failure was the time steps' (health check)  //
+                                  // velocity evaluations of the levels done, on every grid
   std::string failure_;
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };

@@ -19,7 +19,12 @@
 //               this level), wall_s;  t is the simulated time the approach took in all
 //   checkpoints/ one per steady state (`start.from`, `capflow render`/`figure`, --resume of a
 //               `capflow run`)      events.jsonl (start, steady, failure, end)   run.log
-// A stop request (signal) ends the branch after the current level, with its state kept.
+// The first level from rest on NB > 8 is solved on NB=8 first and resampled (mesh sequencing:
+// the long approach from the sphere at cheap evaluations). When the approach to a later level
+// fails the health check, the branch has reached its resolution limit: it ends there, reported,
+// with exit 0.
+// A stop request (signal) ends the branch at once: the level being solved is dropped, the states
+// found are kept (exit 0).
 #pragma once
 
 #include <atomic>
@@ -32,6 +37,9 @@ namespace capflow::app {
 struct SteadySummary {
   int states = 0;       // steady states found
   bool failed = false;  // a level had no steady state (exit 4)
+  // The branch ended at its resolution limit (exit 0): continued from a steady state, the time
+  // steps to the next level failed the health check (the tips sharpen beyond what NB resolves).
+  bool resolution_limit = false;
   bool output_failed = false;
   std::string failure;
   double wall_s = 0;

@@ -58,10 +58,15 @@ struct Kinsol {
   SUNLinearSolver ls = nullptr;
   void* mem = nullptr;
   const StepMap* map = nullptr;
+  const std::atomic<bool>* stop = nullptr;
   std::string error, message;
 
   static int f(N_Vector y, N_Vector fy, void* data) {
     auto* k = static_cast<Kinsol*>(data);
+    if (k->stop && k->stop->load()) {
+      k->error = "stopped";
+      return -1;  // unrecoverable: KINSol returns
+    }
     try {
       view(fy) = k->map->residual(view(y));
       return view(fy).allFinite() ? 0 : 1;
@@ -133,6 +138,7 @@ SteadySolution solve_steady(const Capsule& cap, const Eigen::Matrix3Xd& x0, doub
 
   Kinsol k;
   k.map = &map;
+  k.stop = o.stop;
   require(SUNContext_Create(nullptr, &k.ctx), "SUNContext_Create");
   k.y = N_VNew_Serial(y0.size(), k.ctx);
   k.scale = N_VNew_Serial(y0.size(), k.ctx);

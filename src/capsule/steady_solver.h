@@ -18,7 +18,7 @@
 #pragma once
 
 #include <Eigen/Dense>
-#include <functional>
+#include <atomic>
 #include <string>
 
 #include "capsule/capsule.h"
@@ -30,9 +30,8 @@ struct SteadySolveOptions {
                             // stability limit (RK4's real interval is 0.75x Cash-Karp's)
   double tolerance = 1e-7;  // max |F| at the root (velocity units, a G)
   int max_newton = 30;
-  int max_krylov = 100;  // GMRES subspace per Newton step (one restart allowed)
-  // Called after every Newton iteration with (iteration, max |F|); returning false stops.
-  std::function<bool(int, double)> progress;
+  int max_krylov = 100;                     // GMRES subspace per Newton step (one restart allowed)
+  const std::atomic<bool>* stop = nullptr;  // when set, the solve ends at the next evaluation
 };
 
 struct SteadySolution {
