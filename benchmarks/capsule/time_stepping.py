@@ -96,7 +96,7 @@ def main():
             if a.steady:
                 results.setdefault("steady", []).append(solve(a.capflow, base, work))
     ref_end, ref = results[settings[0][0]][0]
-    print("| run (t_end %g%s) | wall s (median of %d) | t reached | steps | rejected | velocity evaluations "
+    print("| run (t_end %g%s) | wall s (median of %d) | t of the last row | steps | rejected | velocity evaluations "
           "| D | dD | dL | dS | dW | d(volume) |" % (a.t_end, ", steady.stop" if a.steady else "", a.repeat))
     print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     worst = 0.0
