@@ -438,8 +438,8 @@ struct Simulation::Impl {
   StepOutcome advance() {
     const double t_stop =
         std::min({opt.time.t_end, cadence->next_time(), schedule->next_breakpoint(t())});
-    const TimeStepper::Outcome o =
-        stepper->advance(t_stop, [&](double tt) { return schedule->ca(tt); }, *health);
+    const TimeStepper::Outcome o = stepper->advance(
+        t_stop, [&](double tt) { return schedule->ca(tt); }, *health);
     for (const capsule::HealthReport& w : o.warnings) {
       say("warning: " + w.message);
       event(Record().set("event", "warning").set("cause", w.cause).set("message", w.message));
@@ -564,9 +564,9 @@ struct Simulation::Impl {
       << " NB=" << o.mesh.nb << ", dt="
       << (o.time.adaptive ? "auto (tolerance " + fixed_or_sci(o.time.tolerance) + ")"
                           : fixed_or_sci(o.time.dt))
-      << ", t_end=" << o.time.t_end << ", "
-      << omp_get_max_threads() << " threads, symmetry targets " << cap->symmetry().targets().size()
-      << "/" << mesh->num_unique();
+      << ", t_end=" << o.time.t_end << ", " << omp_get_max_threads()
+      << " threads, symmetry targets " << cap->symmetry().targets().size() << "/"
+      << mesh->num_unique();
     if (o.numerics.quadrature_scale != 1.0)
       m << ", quadrature orders x" << o.numerics.quadrature_scale;
     m << " -> " << dir->path().string();
@@ -674,6 +674,31 @@ std::string Simulation::latest_checkpoint(const std::string& run_dir) {
   return all.empty() ? "" : all.front().string();
 }
 
+namespace {
+
+// A run written before timeseries.csv had its dt column: the column is inserted (empty) into the
+// header and every row, so that the rows a resume appends line up with them.
+void upgrade_timeseries(const RunDirectory& dir) {
+  const fs::path path = dir.file("timeseries.csv");
+  std::ifstream in(path);
+  std::string header;
+  if (!in || !std::getline(in, header)) return;
+  const std::string before = ",steps,wall_s";
+  if (header.size() < before.size() ||
+      header.compare(header.size() - before.size(), before.size(), before) != 0)
+    return;
+  std::ostringstream out;
+  out << header.substr(0, header.size() - 6) << "dt,wall_s\n";
+  for (std::string line; std::getline(in, line);) {
+    const size_t last = line.rfind(',');
+    if (last == std::string::npos) continue;
+    out << line.substr(0, last) << "," << line.substr(last) << "\n";
+  }
+  dir.write_text("timeseries.csv", out.str());
+}
+
+}  // namespace
+
 std::unique_ptr<Simulation> Simulation::resume(const std::string& run_dir,
                                                const ResumeOverrides& ov) {
   std::unique_ptr<Simulation> sim(new Simulation());
@@ -694,6 +719,7 @@ std::unique_ptr<Simulation> Simulation::resume(const std::string& run_dir,
   } catch (const control::ControlError&) {
     s.file_opt = c.options;
   }
+  upgrade_timeseries(*s.dir);
   s.dir->timeseries().open(s.dir->file("timeseries.csv"), false);
   s.dir->timeseries().keep_lines(c.rows + 1);
   s.dir->steady().open(s.dir->file("steady.csv"), false);
@@ -865,8 +891,8 @@ RunSummary Simulation::run(const std::atomic<bool>* stop) {
   sum.W = m.shape.W;
   sum.volume_drift = m.shape.volume / s.cap->initial_volume() - 1.0;
   std::ostringstream fin;
-  fin << "end (" << reason << "): t=" << sum.t << " steps=" << sum.steps
-      << " (rejected " << s.rejected << ") velocity evaluations=" << sum.evaluations << " wall=" << std::fixed
+  fin << "end (" << reason << "): t=" << sum.t << " steps=" << sum.steps << " (rejected "
+      << s.rejected << ") velocity evaluations=" << sum.evaluations << " wall=" << std::fixed
       << std::setprecision(1) << sum.wall_s << " s, D=" << std::setprecision(5) << sum.D
       << " L=" << sum.L << " S=" << sum.S << " W=" << sum.W << ", volume drift " << std::scientific
       << std::setprecision(2) << sum.volume_drift << ", steady states " << s.steady_rows;

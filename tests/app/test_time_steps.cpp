@@ -149,3 +149,36 @@ TEST(TimeSteps, LiveEditsSwitchBetweenAutoAndFixedSteps) {
   EXPECT_NE(log.find("time.dt \"auto\" -> 0.0025"), std::string::npos) << log;
   fs::remove_all(d);
 }
+
+TEST(TimeSteps, AResumedRunFromBeforeTheDtColumnGetsIt) {
+  // A run directory written before timeseries.csv had its dt column (simulated by removing it):
+  // the resume inserts the column, empty, so that every row lines up with the header.
+  const fs::path d = test::fresh_dir("old_timeseries");
+  control::ControlOptions o = auto_options(d, 0.1);
+  o.time.adaptive = false;
+  o.time.dt = 0.004;
+  {
+    app::Simulation sim(o, "");
+    ASSERT_FALSE(sim.run().failed);
+  }
+  std::string old;
+  for (std::string line : test::lines_of(d / "timeseries.csv")) {
+    const size_t last = line.rfind(','), before = line.rfind(',', last - 1);
+    old += line.substr(0, before) + line.substr(last) + "\n";
+  }
+  test::write_file(d / "timeseries.csv", old);
+  ASSERT_EQ(old.find(",dt,"), std::string::npos);
+  {
+    app::ResumeOverrides ov;
+    ov.t_end = 0.2;
+    auto sim = app::Simulation::resume(d.string(), ov);
+    ASSERT_FALSE(sim->run().failed);
+  }
+  const std::vector<std::string> lines = test::lines_of(d / "timeseries.csv");
+  EXPECT_NE(lines.at(0).find(",steps,dt,wall_s"), std::string::npos) << lines[0];
+  for (const std::string& l : lines) EXPECT_EQ(std::count(l.begin(), l.end(), ','), 18) << l;
+  const std::string& last = lines.back();  // a row of the resumed session: dt filled in
+  const size_t end = last.rfind(','), begin = last.rfind(',', end - 1);
+  EXPECT_EQ(std::stod(last.substr(begin + 1, end - begin - 1)), 0.004) << last;
+  fs::remove_all(d);
+}
