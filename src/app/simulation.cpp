@@ -113,8 +113,9 @@ struct Simulation::Impl {
   std::unique_ptr<capsule::Capsule> cap;
   std::unique_ptr<capsule::HealthMonitor> health;
   std::unique_ptr<TimeStepper> stepper;
-  double last_dt = 0;  // the step that ended at t() (0 before the first)
-  long rejected = 0;   // adaptive step attempts refused in this session
+  double last_dt = 0;          // the step that ended at t() (0 before the first)
+  long rejected = 0;           // adaptive step attempts refused in this session
+  bool at_breakpoint = false;  // the last step ended where the Ca schedule changes
   std::unique_ptr<control::CaScheduler> schedule;
   std::unique_ptr<render::RenderThread> renderer;
   std::unique_ptr<output::PvdCollection> pvd;
@@ -436,10 +437,12 @@ struct Simulation::Impl {
   // One step and the health check (on failure the last good state is kept). Adaptive steps
   // end at t_end, the next output time or the next change of the Ca schedule at the latest.
   StepOutcome advance() {
-    const double t_stop =
-        std::min({opt.time.t_end, cadence->next_time(), schedule->next_breakpoint(t())});
+    const double breakpoint = schedule->next_breakpoint(t());
+    const double t_stop = std::min({opt.time.t_end, cadence->next_time(), breakpoint});
     const TimeStepper::Outcome o = stepper->advance(
         t_stop, [&](double tt) { return schedule->ca(tt); }, *health);
+    // An adaptive step that ended on the schedule's change: the schedule sees it now.
+    at_breakpoint = stepper->adaptive() && o.failure.empty() && t() == breakpoint;
     for (const capsule::HealthReport& w : o.warnings) {
       say("warning: " + w.message);
       event(Record().set("event", "warning").set("cause", w.cause).set("message", w.message));
@@ -457,7 +460,7 @@ struct Simulation::Impl {
     const double now = t();
     ob.ca = schedule->ca(now);
     const double eps = 1e-9 * dt;
-    const bool sample = now >= next_sample - eps;
+    const bool sample = now >= next_sample - eps || at_breakpoint;
     if (!sample && !due.full_measure()) return ob;
     ob.m = measure(due.full_measure());
     ob.measured = true;

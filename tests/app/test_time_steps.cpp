@@ -21,7 +21,7 @@ control::ControlOptions auto_options(const fs::path& dir, double t_end) {
     "capsule": {"law": "skalak", "C": 1}, "mesh": {"elements": 6, "nb": 6, "division": "cube"},
     "time": {"dt": "auto"},
     "ca": [{"ca": 0.2, "hold": 0.13}, {"ramp": {"to": 0.3, "rate": 1.0}}],
-    "steady": {"window": 0.01, "min_hold": 0.0, "tolerance": 1e-9},
+    "steady": {"window": 1.0, "min_hold": 0.0, "tolerance": 1e-9},
     "output": {"csv_every": 0.05, "checkpoint_every": 0.1}})");
   p.options.output.dir = dir.string();
   p.options.time.t_end = t_end;
