@@ -1,5 +1,5 @@
 // capflow run CONTROL.json | --resume RUN_DIR: simulate the capsule as the control file says (see
-// README, "capflow run"); the control file is watched and edits steer the run.
+// docs/usage.md, "capflow run"); the control file is watched and edits steer the run.
 // Signals: the first SIGINT/SIGTERM/SIGHUP finishes the current step, writes a checkpoint,
 // finalises the movie and exits with a summary; a second one exits at once (the fragmented MP4
 // stays playable). SIGXFSZ is ignored, so that a file-size limit is an output failure (exit 5)

@@ -1,5 +1,5 @@
 // capflow steady CONTROL.json [-o DIR] [--overwrite]: steady shapes found directly as roots of
-// the node velocities, level by level of Ca (app/steady_run.h; README, "capflow steady").
+// the node velocities, level by level of Ca (app/steady_run.h; docs/usage.md, "capflow steady").
 // Signals: SIGINT/SIGTERM/SIGHUP end the branch at once (the states found are kept).
 // Exit codes (app/errors.h): 0 every level solved, 2 invalid input (a rotational flow, a ramp),
 // 4 a level without a steady state, 5 a run file could not be written.

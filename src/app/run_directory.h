@@ -1,6 +1,6 @@
 // capflow/app/run_directory: a run directory - its layout, its lock, and every write into it.
 //
-// Layout (README, "Run directory"):
+// Layout (docs/usage.md, "Run directory"):
 //   run.lock          held (flock, exclusive) for the run's life; holds the PID of its process
 //   control.json      the effective control file          control.source  the watched file
 //   timeseries.csv  steady.csv  events.jsonl  run.log      appended whole lines (AppendFile)
