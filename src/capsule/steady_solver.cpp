@@ -7,6 +7,7 @@
 #include <sunlinsol/sunlinsol_spgmr.h>
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace capflow::capsule {
@@ -20,7 +21,7 @@ Eigen::Map<Eigen::VectorXd> view(N_Vector v) {
 // The fixed-point residual of the RK4 map on the reduced node set.
 class StepMap {
  public:
-  StepMap(const Capsule& cap, double ca, double h) : cap_(cap), ca_(ca), h_(h) {}
+  StepMap(const Capsule& cap, double h) : cap_(cap), h_(h) {}
 
   Eigen::Matrix3Xd expand(const Eigen::VectorXd& y) const {
     const Eigen::Map<const Eigen::Matrix3Xd> at(y.data(), 3, y.size() / 3);
@@ -35,12 +36,13 @@ class StepMap {
     return y;
   }
   // F(y) = (P(Phi_h(E y)) - E y)|targets / h.
-  Eigen::VectorXd residual(const Eigen::VectorXd& y) const {
+  Eigen::VectorXd residual(const Eigen::VectorXd& y, double ca) const {
+    if (!(ca > 0)) throw std::domain_error("Ca <= 0 in the Newton iteration");
     const Eigen::Matrix3Xd x = expand(y);
-    const Eigen::Matrix3Xd k1 = cap_.velocity(x, ca_);
-    const Eigen::Matrix3Xd k2 = cap_.velocity(x + 0.5 * h_ * k1, ca_);
-    const Eigen::Matrix3Xd k3 = cap_.velocity(x + 0.5 * h_ * k2, ca_);
-    const Eigen::Matrix3Xd k4 = cap_.velocity(x + h_ * k3, ca_);
+    const Eigen::Matrix3Xd k1 = cap_.velocity(x, ca);
+    const Eigen::Matrix3Xd k2 = cap_.velocity(x + 0.5 * h_ * k1, ca);
+    const Eigen::Matrix3Xd k3 = cap_.velocity(x + 0.5 * h_ * k2, ca);
+    const Eigen::Matrix3Xd k4 = cap_.velocity(x + h_ * k3, ca);
     Eigen::Matrix3Xd x1 = x + (h_ / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
     cap_.finish_step(&x1);
     x1 = rescale_to_volume(cap_.mesh(), x1, cap_.initial_volume());
@@ -49,7 +51,44 @@ class StepMap {
 
  private:
   const Capsule& cap_;
-  double ca_, h_;
+  double h_;
+};
+
+// The unknowns and equations KINSOL sees: the reduced positions y at a fixed Ca, or (y, Ca) with
+// the hyperplane <tangent, (E y, Ca) - predicted> = 0 (continuation.h's inner product) appended.
+class System {
+ public:
+  System(const StepMap& map, double ca) : map_(map), ca_(ca) {}
+  System(const StepMap& map, const BranchPoint& predicted, const BranchPoint& normal)
+      : map_(map), ca_(predicted.ca), hyperplane_(true), predicted_(predicted), normal_(normal) {}
+
+  Eigen::VectorXd start(const Eigen::Matrix3Xd& x0) const {
+    const Eigen::VectorXd y = map_.reduce(x0);
+    if (!hyperplane_) return y;
+    Eigen::VectorXd z(y.size() + 1);
+    z << y, ca_;
+    return z;
+  }
+  Eigen::VectorXd shape(const Eigen::VectorXd& z) const {
+    return hyperplane_ ? Eigen::VectorXd(z.head(z.size() - 1)) : z;
+  }
+  double ca(const Eigen::VectorXd& z) const { return hyperplane_ ? z(z.size() - 1) : ca_; }
+  Eigen::VectorXd residual(const Eigen::VectorXd& z) const {
+    const Eigen::VectorXd y = shape(z);
+    const Eigen::VectorXd f = map_.residual(y, ca(z));
+    if (!hyperplane_) return f;
+    const Eigen::Matrix3Xd x = map_.expand(y);
+    BranchPoint p{Eigen::Map<const Eigen::VectorXd>(x.data(), x.size()), ca(z)};
+    Eigen::VectorXd out(f.size() + 1);
+    out << f, branch_dot(normal_, branch_difference(p, predicted_));
+    return out;
+  }
+
+ private:
+  const StepMap& map_;
+  double ca_;
+  bool hyperplane_ = false;
+  BranchPoint predicted_, normal_;
 };
 
 struct Kinsol {
@@ -57,7 +96,7 @@ struct Kinsol {
   N_Vector y = nullptr, scale = nullptr;
   SUNLinearSolver ls = nullptr;
   void* mem = nullptr;
-  const StepMap* map = nullptr;
+  const System* system = nullptr;
   const std::atomic<bool>* stop = nullptr;
   std::string error, message;
 
@@ -68,7 +107,7 @@ struct Kinsol {
       return -1;  // unrecoverable: KINSol returns
     }
     try {
-      view(fy) = k->map->residual(view(y));
+      view(fy) = k->system->residual(view(y));
       return view(fy).allFinite() ? 0 : 1;
     } catch (const std::exception& e) {
       k->error = e.what();
@@ -128,22 +167,22 @@ bool is_pure_straining(const Eigen::Matrix3d& g) {
   return big > 0 && (g - g.transpose()).cwiseAbs().maxCoeff() <= 1e-12 * big;
 }
 
-SteadySolution solve_steady(const Capsule& cap, const Eigen::Matrix3Xd& x0, double ca,
-                            const SteadySolveOptions& o) {
+namespace {
+
+SteadySolution solve(const Capsule& cap, const StepMap& map, const System& system,
+                     const Eigen::Matrix3Xd& x0, const SteadySolveOptions& o) {
   if (!(o.step > 0)) throw std::invalid_argument("solve_steady: step must be > 0");
-  if (!(ca > 0)) throw std::invalid_argument("solve_steady: Ca must be > 0");
   const long evals_before = cap.velocity_evaluations();
-  const StepMap map(cap, ca, o.step);
-  const Eigen::VectorXd y0 = map.reduce(x0);
+  const Eigen::VectorXd z0 = system.start(x0);
 
   Kinsol k;
-  k.map = &map;
+  k.system = &system;
   k.stop = o.stop;
   require(SUNContext_Create(nullptr, &k.ctx), "SUNContext_Create");
-  k.y = N_VNew_Serial(y0.size(), k.ctx);
-  k.scale = N_VNew_Serial(y0.size(), k.ctx);
+  k.y = N_VNew_Serial(z0.size(), k.ctx);
+  k.scale = N_VNew_Serial(z0.size(), k.ctx);
   if (!k.y || !k.scale) throw std::runtime_error("KINSOL: N_VNew_Serial failed");
-  view(k.y) = y0;
+  view(k.y) = z0;
   N_VConst(1.0, k.scale);
   k.mem = KINCreate(k.ctx);
   if (!k.mem) throw std::runtime_error("KINSOL: KINCreate failed");
@@ -167,15 +206,37 @@ SteadySolution solve_steady(const Capsule& cap, const Eigen::Matrix3Xd& x0, doub
   KINGetNumLinIters(k.mem, &nli);
   s.newton = static_cast<int>(nni);
   s.krylov = nli;
-  const Eigen::VectorXd y = view(k.y);
-  s.x = map.expand(y);
-  s.residual = map.residual(y).cwiseAbs().maxCoeff();
-  s.speed = cap.velocity(s.x, ca).cwiseAbs().maxCoeff();
+  const Eigen::VectorXd z = view(k.y);
+  s.ca = system.ca(z);
+  s.x = map.expand(system.shape(z));
+  if (s.ca > 0) {
+    s.residual = system.residual(z).cwiseAbs().maxCoeff();
+    s.speed = cap.velocity(s.x, s.ca).cwiseAbs().maxCoeff();
+  } else {
+    s.residual = s.speed = std::numeric_limits<double>::infinity();
+  }
   s.converged = (flag == KIN_SUCCESS || flag == KIN_INITIAL_GUESS_OK) && s.residual <= o.tolerance;
   s.message = describe(flag);
   if (!k.error.empty()) s.message += " (" + k.error + ")";
   s.evaluations = cap.velocity_evaluations() - evals_before;
   return s;
+}
+
+}  // namespace
+
+SteadySolution solve_steady(const Capsule& cap, const Eigen::Matrix3Xd& x0, double ca,
+                            const SteadySolveOptions& o) {
+  if (!(ca > 0)) throw std::invalid_argument("solve_steady: Ca must be > 0");
+  const StepMap map(cap, o.step);
+  return solve(cap, map, System(map, ca), x0, o);
+}
+
+SteadySolution solve_steady_on_hyperplane(const Capsule& cap, const BranchPoint& predicted,
+                                          const BranchPoint& normal, const SteadySolveOptions& o) {
+  if (!(predicted.ca > 0)) throw std::invalid_argument("solve_steady: Ca must be > 0");
+  const StepMap map(cap, o.step);
+  const Eigen::Map<const Eigen::Matrix3Xd> x0(predicted.y.data(), 3, predicted.y.size() / 3);
+  return solve(cap, map, System(map, predicted, normal), x0, o);
 }
 
 }  // namespace capflow::capsule

@@ -22,6 +22,7 @@
 #include <string>
 
 #include "capsule/capsule.h"
+#include "capsule/continuation.h"
 
 namespace capflow::capsule {
 
@@ -36,6 +37,7 @@ struct SteadySolveOptions {
 
 struct SteadySolution {
   Eigen::Matrix3Xd x;  // the last iterate (every node)
+  double ca = 0;       // its Ca (the given one, or the hyperplane solve's)
   bool converged = false;
   double residual = 0;   // max |F| at x
   double speed = 0;      // max |u| at x (includes the volume leak's slow dilation)
@@ -49,6 +51,14 @@ struct SteadySolution {
 // smoothing, the symmetry and the reference volume (its own state is not changed).
 SteadySolution solve_steady(const Capsule& cap, const Eigen::Matrix3Xd& x0, double ca,
                             const SteadySolveOptions& options);
+
+// The continuation's corrector (capsule/continuation.h): the steady state (x, Ca) on the
+// hyperplane <normal, (x, Ca) - predicted> = 0, Ca an unknown; predicted.y and normal.y are the
+// positions of every node (3 x N, column-major). The equations are F(y; Ca) = 0 and the
+// hyperplane's (same tolerance).
+SteadySolution solve_steady_on_hyperplane(const Capsule& cap, const BranchPoint& predicted,
+                                          const BranchPoint& normal,
+                                          const SteadySolveOptions& options);
 
 // True when the flow's velocity gradient is symmetric (a pure straining flow), in which steady
 // membranes are at rest; simple shear and other rotational flows are not.
