@@ -377,6 +377,21 @@ struct Simulation::Impl {
     checkpoint_now_seen = opt.run.checkpoint_now;
   }
 
+  // A continuation is capflow steady's: an edit of "ca" to one is refused, the rest applies.
+  void refuse_continuation(control::EditResult* r) const {
+    if (!r->schedule_changed || !r->merged.ca.continuation) return;
+    r->merged.ca = opt.ca;
+    r->schedule_changed = false;
+    for (auto it = r->applied.begin(); it != r->applied.end(); ++it)
+      if (it->path == "ca") {
+        control::OptionChange c = *it;
+        c.reason = control::kContinuationRefused;
+        r->refused.push_back(c);
+        r->applied.erase(it);
+        break;
+      }
+  }
+
   void apply_file_edit() {
     control::ParsedControl edited;
     try {
@@ -390,7 +405,8 @@ struct Simulation::Impl {
       event(Record().set("event", "edit").set("accepted", false).set("errors", errs));
       return;
     }
-    const control::EditResult r = control::apply_edit(opt, file_opt, edited.options);
+    control::EditResult r = control::apply_edit(opt, file_opt, edited.options);
+    refuse_continuation(&r);
     file_opt = edited.options;
     if (r.applied.empty() && r.refused.empty()) return;  // saved without changes to the run
     const double now = t();

@@ -17,6 +17,7 @@
 #include "app/run_log.h"
 #include "capsule/adaptive_stepper.h"
 #include "capsule/capsule.h"
+#include "capsule/continuation.h"
 #include "capsule/health.h"
 #include "capsule/steady_solver.h"
 #include "control/control_file.h"
@@ -111,7 +112,7 @@ class SteadyRun {
           o.flow.name() +
           " a steady capsule's membrane keeps moving (tank-treading), so its shape is not a "
           "root of the node velocities: use capflow run with \"steady\": {\"stop\": true}");
-    levels_ = levels_of(o.ca);
+    levels_ = o.ca.continuation ? std::vector<double>{o.ca.continuation->from} : levels_of(o.ca);
     if (levels_.empty()) throw UserError("ca: no level to solve at");
     if (o.output.dir.empty()) throw UserError("output.dir: give a run directory (or -o DIR)");
     dir_ = RunDirectory::open(
@@ -152,21 +153,28 @@ class SteadyRun {
       }
       ++sum.states;
     }
+    if (opt_.ca.continuation && sum.states == 1 && !(stop && stop->load()))
+      follow_branch(stop, &sum);
     sum.wall_s = wall();
     sum.evaluations = evaluations_;
     std::ostringstream m;
-    m << "end: " << sum.states << " steady state" << (sum.states == 1 ? "" : "s") << " of "
-      << levels_.size() << ", " << sum.evaluations << " velocity evaluations, wall "
-      << fixed(sum.wall_s, 1) << " s" << (sum.failed ? " (" + sum.failure + ")" : "");
+    m << "end: " << sum.states << " steady state" << (sum.states == 1 ? "" : "s");
+    if (opt_.ca.continuation)
+      m << " on the branch" << (sum.fold_ca ? ", fold at Ca = " + fixed(*sum.fold_ca, 6) : "");
+    else
+      m << " of " << levels_.size();
+    m << ", " << sum.evaluations << " velocity evaluations, wall " << fixed(sum.wall_s, 1) << " s"
+      << (sum.failed ? " (" + sum.failure + ")" : "");
     say(m.str());
-    log_->event(Record()
-                    .set("event", "end")
-                    .set("states", sum.states)
-                    .set("resolution_limit", sum.resolution_limit)
-                    .set("exit_code", sum.exit_code())
-                    .set("velocity_evaluations", sum.evaluations)
-                    .set("wall_s", sum.wall_s),
-                t_);
+    Record end = Record()
+                     .set("event", "end")
+                     .set("states", sum.states)
+                     .set("resolution_limit", sum.resolution_limit)
+                     .set("exit_code", sum.exit_code())
+                     .set("velocity_evaluations", sum.evaluations)
+                     .set("wall_s", sum.wall_s);
+    if (sum.fold_ca) end.set("fold_ca", *sum.fold_ca);
+    log_->event(end, t_);
     return sum;
   }
 
@@ -186,9 +194,14 @@ class SteadyRun {
   void announce() {
     std::ostringstream m;
     m << "capflow steady: " << membrane::to_string(opt_.law.kind) << ", " << opt_.flow.name()
-      << ", NE=" << opt_.mesh.elements << " NB=" << opt_.mesh.nb << ", " << levels_.size()
-      << " level" << (levels_.size() == 1 ? "" : "s") << " of Ca from " << levels_.front() << " to "
-      << levels_.back() << ", symmetry targets " << fine_.cap->symmetry().targets().size() << " -> "
+      << ", NE=" << opt_.mesh.elements << " NB=" << opt_.mesh.nb << ", ";
+    if (const auto& c = opt_.ca.continuation)
+      m << "the branch from Ca = " << c->from << " towards " << c->to << " (steps up to " << c->step
+        << ")";
+    else
+      m << levels_.size() << " level" << (levels_.size() == 1 ? "" : "s") << " of Ca from "
+        << levels_.front() << " to " << levels_.back();
+    m << ", symmetry targets " << fine_.cap->symmetry().targets().size() << " -> "
       << dir_->path().string();
     say(m.str());
     log_->event(Record().set("event", "start").set_json("control", control::to_json_text(opt_)),
@@ -272,6 +285,7 @@ class SteadyRun {
     double speed = kApproachSpeed;
     for (int attempt = 0; attempt < kSolveAttempts; ++attempt, speed /= 4) {
       const double h = approach(g, ca, speed, stop);
+      if (&g == &fine_ && h > 0) h_ca_ = ca;
       if (h < 0) {
         failure_ = "the approach failed: " + failure_;
         approach_failed_ = true;
@@ -343,6 +357,107 @@ class SteadyRun {
     write_state(ca, sol, newton, krylov, evaluations,
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t_level).count());
     return true;
+  }
+
+  // The branch of a continuation from the first state (capsule/continuation.h), each state
+  // solved on the hyperplane of its prediction (capsule::solve_steady_on_hyperplane).
+  void follow_branch(const std::atomic<bool>* stop, SteadySummary* sum) {
+    const control::Continuation& c = *opt_.ca.continuation;
+    capsule::ContinuationOptions co;
+    co.from = c.from;
+    co.to = c.to;
+    co.step = c.step;
+    co.after_fold = c.after_fold;
+    capsule::ArclengthContinuation branch(co, {flat(fine_.x), c.from});
+    for (;;) {
+      if (stop && stop->load()) {
+        say("stopped by signal: the branch ends at Ca = " + fixed(branch.last().ca, 6));
+        return;
+      }
+      const auto t_state = std::chrono::steady_clock::now();
+      const long evals0 = fine_.cap->velocity_evaluations();
+      Corrections k;
+      const capsule::ArclengthContinuation::Status status =
+          branch.advance([&](const capsule::BranchPoint& p, const capsule::BranchPoint& n,
+                             int* newton) { return correct(p, n, stop, &k, newton); });
+      const long evaluations = fine_.cap->velocity_evaluations() - evals0;
+      evaluations_ += evaluations;
+      if (stop && stop->load()) continue;
+      if (status == capsule::ArclengthContinuation::Status::Done) return;
+      if (status == capsule::ArclengthContinuation::Status::Stuck) {
+        sum->resolution_limit = true;
+        sum->failure = branch.why();
+        say("the branch ends: " + branch.why());
+        log_->event(Record().set("event", "branch_end").set("message", branch.why()), t_);
+        return;
+      }
+      fine_.x =
+          Eigen::Map<const Eigen::Matrix3Xd>(branch.last().y.data(), 3, branch.last().y.size() / 3);
+      write_state(
+          branch.last().ca, k.last, k.newton, k.krylov, evaluations,
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t_state).count());
+      ++sum->states;
+      if (branch.fold_found_now()) report_fold(*branch.fold(), c.after_fold, sum);
+    }
+  }
+
+  struct Corrections {
+    capsule::SteadySolution last;
+    int newton = 0;
+    long krylov = 0;
+  };
+
+  // The continuation's corrector: the RK4 map step from adaptive steps measured near this Ca
+  // (again when Ca moved by more than 20 % since), then Newton on the hyperplane.
+  std::optional<capsule::BranchPoint> correct(const capsule::BranchPoint& p,
+                                              const capsule::BranchPoint& normal,
+                                              const std::atomic<bool>* stop, Corrections* k,
+                                              int* newton) {
+    if (std::abs(p.ca - h_ca_) > 0.2 * h_ca_) measure_step(p.ca, stop);
+    capsule::SteadySolveOptions so;
+    so.step = kMapStepFactor * fine_.h_last;
+    so.tolerance = opt_.steady.solve_tolerance;
+    so.stop = stop;
+    k->last = capsule::solve_steady_on_hyperplane(*fine_.cap, p, normal, so);
+    k->newton += k->last.newton;
+    k->krylov += k->last.krylov;
+    *newton = k->last.newton;
+    std::ostringstream m;
+    m << "branch: predicted Ca = " << p.ca << ", Newton "
+      << (k->last.converged ? "converged" : "did not converge") << " at Ca = " << k->last.ca << " ("
+      << k->last.message << ") in " << k->last.newton << " iterations, " << k->last.krylov
+      << " GMRES iterations, residual " << std::scientific << std::setprecision(2)
+      << k->last.residual;
+    say(m.str());
+    if (!k->last.converged) return std::nullopt;
+    return capsule::BranchPoint{flat(k->last.x), k->last.ca};
+  }
+
+  // The stability limit at Ca: kMinApproachSteps adaptive steps from the last state (which
+  // is kept, as is the simulated time).
+  void measure_step(double ca, const std::atomic<bool>* stop) {
+    const Eigen::Matrix3Xd x = fine_.x;
+    const double t = t_, h = fine_.h_last;
+    if (approach(fine_, ca, std::numeric_limits<double>::infinity(), stop) < 0)
+      fine_.h_last = h;  // the march failed: keep the last measurement
+    else
+      h_ca_ = ca;
+    fine_.x = x;
+    t_ = t;
+  }
+
+  void report_fold(const capsule::Fold& f, int after_fold, SteadySummary* sum) {
+    sum->fold_ca = f.ca;
+    std::ostringstream m;
+    m << "fold at Ca = " << fixed(f.ca, 6) << " (after state " << f.after_state
+      << "): no steady state on this branch beyond it; " << after_fold << " more state"
+      << (after_fold == 1 ? "" : "s") << " on the branch past it";
+    say(m.str());
+    log_->event(Record().set("event", "fold").set("ca", f.ca).set("arclength", f.arclength), t_);
+  }
+
+  static Eigen::VectorXd flat(const Eigen::Matrix3Xd& x) {
+    return Eigen::Map<const Eigen::VectorXd>(x.data(), x.size());
   }
 
   bool fail(double ca, const std::string& why) {
@@ -424,9 +539,10 @@ class SteadyRun {
   std::vector<double> levels_;
   std::unique_ptr<RunDirectory> dir_;
   std::unique_ptr<RunLog> log_;
-  Grid fine_;       // the control file's mesh
-  double t_ = 0;    // simulated time of all approaches
-  long steps_ = 0;  // their steps
+  Grid fine_;        // the control file's mesh
+  double t_ = 0;     // simulated time of all approaches
+  double h_ca_ = 0;  // the Ca at which fine_.h_last was measured
+  long steps_ = 0;   // their steps
   long states_ = 0;
   double last_progress_ = 0;
   long evaluations_ = 0;

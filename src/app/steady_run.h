@@ -28,6 +28,7 @@
 #pragma once
 
 #include <atomic>
+#include <optional>
 #include <string>
 
 #include "control/options.h"
@@ -40,6 +41,7 @@ struct SteadySummary {
   // The branch ended at its resolution limit (exit 0): continued from a steady state, the time
   // steps to the next level failed the health check (the tips sharpen beyond what NB resolves).
   bool resolution_limit = false;
+  std::optional<double> fold_ca;  // a continuation passed a fold there
   bool output_failed = false;
   std::string failure;
   double wall_s = 0;

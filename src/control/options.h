@@ -43,20 +43,22 @@ inline geometry::Division default_division(int elements, capsule::FlowType flow)
 
 // The control-file name of a division ("cube", "box", "diagonal").
 inline const char* division_name(geometry::Division d) {
-  return d == geometry::Division::Box ? "box" : d == geometry::Division::Diagonal ? "diagonal" : "cube";
+  return d == geometry::Division::Box        ? "box"
+         : d == geometry::Division::Diagonal ? "diagonal"
+                                             : "cube";
 }
 
 // "start": the initial shape (default: the unstressed reference sphere at t = 0).
 struct StartOptions {
-  std::string from;             // "start.from": a run directory (its newest checkpoint) or a
-                                // .ckpt file; its shape is resampled spectrally onto this run's
-                                // mesh (geometry::resample_surface), which may differ in NB and
-                                // elements; the run goes on from the checkpoint's time t, with its
-                                // Ca schedule starting at t. "" = the reference sphere.
-  bool restore_volume = true;   // "start.restore_volume": scale the resampled shape about its
-                                // centroid to the reference volume (removes the source run's
-                                // volume drift and the resampling error), so that volume_drift
-                                // stays relative to the unstressed sphere
+  std::string from;            // "start.from": a run directory (its newest checkpoint) or a
+                               // .ckpt file; its shape is resampled spectrally onto this run's
+                               // mesh (geometry::resample_surface), which may differ in NB and
+                               // elements; the run goes on from the checkpoint's time t, with its
+                               // Ca schedule starting at t. "" = the reference sphere.
+  bool restore_volume = true;  // "start.restore_volume": scale the resampled shape about its
+                               // centroid to the reference volume (removes the source run's
+                               // volume drift and the resampling error), so that volume_drift
+                               // stays relative to the unstressed sphere
 };
 
 struct TimeOptions {
@@ -77,18 +79,31 @@ struct TimeOptions {
 struct CaSegment {
   enum class Kind { Hold, Ramp, Steps };
   Kind kind = Kind::Hold;
-  double ca = 0;            // Hold: the level
-  double to = 0;            // Ramp/Steps: the final level
-  double rate = 0;          // Ramp: |dCa/dt| > 0
-  double by = 0;            // Steps: increment > 0
-  bool until_steady = true; // Hold/Steps: hold until steady state ...
-  double hold_time = 0;     // ... or for this long (when until_steady is false)
+  double ca = 0;             // Hold: the level
+  double to = 0;             // Ramp/Steps: the final level
+  double rate = 0;           // Ramp: |dCa/dt| > 0
+  double by = 0;             // Steps: increment > 0
+  bool until_steady = true;  // Hold/Steps: hold until steady state ...
+  double hold_time = 0;      // ... or for this long (when until_steady is false)
+};
+
+// "ca": {"continuation": {"from": 0.15, "to": 3, "step": 0.05}}: capflow steady's branch of
+// steady states from `from` towards `to` by pseudo-arclength continuation (app/steady_run.h):
+// the steps adapt between step/64 and `step` (the largest change of Ca per state), a fold
+// (dCa/ds changes sign) is located and reported, and `after_fold` more states are computed on the
+// branch beyond it. capflow run refuses it (a run holds levels, ramps and steps).
+struct Continuation {
+  double from = 0;     // the first level, (0, 100]
+  double to = 0;       // the end of the range, (0, 100], != from
+  double step = 0;     // the first and the largest change of Ca per state, (0, 10]
+  int after_fold = 3;  // states beyond a fold, [0, 1000] (0: the branch ends at the fold)
 };
 
 struct CaSchedule {
   std::vector<CaSegment> segments;  // "ca": a number n is [{"ca": n, "hold": "steady"}] that
                                     // never ends (the run ends at t_end)
   bool constant = false;            // true when "ca" was a plain number
+  std::optional<Continuation> continuation;  // "ca": {"continuation": ...} (segments empty)
 };
 
 struct SteadyOptions {
@@ -115,15 +130,15 @@ struct OutputOptions {
   bool png = true;                   // "output.png": write frames/frame_NNNNNN.png
   Mp4Options mp4;                    // "output.mp4"
   double checkpoint_every = 0.0;     // "output.checkpoint_every": 0 = only at the end
-  double vtk_every = 0.0;            // "output.vtk_every": ParaView surface_NNNNNN.vtp + surface.pvd
-                                     // cadence (simulated time), 0 = none
+  double vtk_every = 0.0;  // "output.vtk_every": ParaView surface_NNNNNN.vtp + surface.pvd
+                           // cadence (simulated time), 0 = none
 };
 
 struct NumericsOptions {
-  bool smoothing = true;          // "numerics.smoothing": paper's first-order smoothing
-  bool volume_correction = false; // "numerics.volume_correction": paper eq. 23
-  bool symmetry = true;           // "numerics.symmetry": use the flow's symmetries
-  int threads = 0;                // "numerics.threads": OpenMP threads, 0 = all cores
+  bool smoothing = true;           // "numerics.smoothing": paper's first-order smoothing
+  bool volume_correction = false;  // "numerics.volume_correction": paper eq. 23
+  bool symmetry = true;            // "numerics.symmetry": use the flow's symmetries
+  int threads = 0;                 // "numerics.threads": OpenMP threads, 0 = all cores
   // "numerics.quadrature_scale": every quadrature order of the boundary integral (far, mid, own,
   // near) times this factor, for accuracy checks of a result against its quadrature (time per
   // velocity evaluation grows about as its square)
@@ -145,19 +160,19 @@ struct RunOptions {
 //   preview.png in the run directory up to date without ever blocking the solver).
 
 struct ControlOptions {
-  std::string description;            // "description": free text, logged (optional)
-  membrane::LawOptions law;           // "capsule.law", "capsule.C", "capsule.psi"
-  double viscosity_ratio = 1.0;       // "capsule.viscosity_ratio": only 1 is implemented
+  std::string description;       // "description": free text, logged (optional)
+  membrane::LawOptions law;      // "capsule.law", "capsule.C", "capsule.psi"
+  double viscosity_ratio = 1.0;  // "capsule.viscosity_ratio": only 1 is implemented
   MeshOptions mesh;
-  StartOptions start;                 // "start"
-  capsule::Flow flow;                 // "flow.type": "planar-extension" | "simple-shear" |
-                                      // "custom" (with "flow.gradient": G, u = G x)
+  StartOptions start;  // "start"
+  capsule::Flow flow;  // "flow.type": "planar-extension" | "simple-shear" |
+                       // "custom" (with "flow.gradient": G, u = G x)
   TimeOptions time;
-  CaSchedule ca;                      // "ca": number or list of segments
+  CaSchedule ca;  // "ca": number or list of segments
   SteadyOptions steady;
   OutputOptions output;
   NumericsOptions numerics;
-  render::RenderOptions render;       // "render"
+  render::RenderOptions render;  // "render"
   RunOptions run;
 };
 

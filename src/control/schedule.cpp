@@ -44,9 +44,14 @@ int levels_left(const CaSegment& s, double level) {
 }
 }  // namespace
 
+const char* const kContinuationRefused =
+    "ca: a continuation follows a branch of steady states, which capflow steady solves for; "
+    "capflow run holds levels, ramps and steps (a number or a list of segments)";
+
 CaScheduler::CaScheduler(const CaSchedule& schedule, const SteadyOptions& steady, double t0,
                          std::optional<double> initial_ca)
     : schedule_(schedule), steady_(steady) {
+  if (schedule_.continuation) throw std::invalid_argument(kContinuationRefused);
   if (!initial_ca && !schedule_.segments.empty() &&
       schedule_.segments[0].kind == CaSegment::Kind::Ramp)
     throw std::invalid_argument(

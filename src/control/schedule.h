@@ -8,6 +8,7 @@
 //         held like a Hold segment.
 // After the last segment the final level is held until the run ends (a constant "ca": x is one
 // such final hold); a steady state there is still detected and reported once.
+// A continuation (capflow steady's) is refused: std::invalid_argument(kContinuationRefused).
 // Initial Ca: the current Ca of the state the run starts from (start.from: the source run's
 // Ca). From rest there is none: steps then start at 0 (the first level is `by`), and a schedule
 // that begins with a ramp is refused (std::invalid_argument): Ca would pass through 0, where the
@@ -36,6 +37,9 @@
 #include "control/options.h"
 
 namespace capflow::control {
+
+// Why a continuation (CaSchedule::continuation) is refused by the scheduler (capflow run).
+extern const char* const kContinuationRefused;
 
 class CaScheduler {
  public:

@@ -292,8 +292,34 @@ void read_hold(SegmentReader& r, CaSegment* s) {
   }
 }
 
+// "ca": {"continuation": {"from", "to", "step", "after_fold"}} (capflow steady).
+void read_continuation(const json& v, std::vector<ControlIssue>* errors, CaSchedule* out) {
+  SegmentReader r(&v, "ca", errors);
+  SegmentReader q = r.object("continuation");
+  r.finish();
+  Continuation c;
+  q.number("from", &c.from, kCaRange, "the first Ca");
+  q.number("to", &c.to, kCaRange, "the end of the Ca range");
+  q.number("step", &c.step, open_closed(0.0, 10.0), "the largest change of Ca per state");
+  double after = c.after_fold;
+  q.number("after_fold", &after, closed(0.0, 1000.0), "the states beyond a fold");
+  if (q.present("after_fold") && after != std::floor(after))
+    q.error("after_fold", "value " + show(v["continuation"]["after_fold"]) +
+                              " is not valid: after_fold must be a whole number in [0, 1000]");
+  c.after_fold = static_cast<int>(after);
+  for (const char* key : {"from", "to", "step"})
+    if (!q.present(key)) q.error("", std::string("missing \"") + key + "\"");
+  q.finish();
+  if (q.present("from") && q.present("to") && c.from == c.to)
+    q.error("to",
+            "value " + show(v["continuation"]["to"]) + " is not valid: the range needs to != from");
+  out->continuation = c;
+}
+
 void read_schedule(const json& v, std::vector<ControlIssue>* errors, CaSchedule* out) {
   out->segments.clear();
+  out->continuation.reset();
+  if (v.is_object() && v.contains("continuation")) return read_continuation(v, errors, out);
   if (v.is_number()) {
     CaSegment s;
     const std::string issue = number_issue(v, kCaRange, "Ca", &s.ca);
@@ -304,8 +330,9 @@ void read_schedule(const json& v, std::vector<ControlIssue>* errors, CaSchedule*
   }
   if (!v.is_array() || v.empty()) {
     errors->push_back({"ca",
-                       "expected a number (constant Ca) or a non-empty list of segments "
-                       "({\"ca\": x, \"hold\": ...}, {\"ramp\": {...}}, {\"steps\": {...}}), got " +
+                       "expected a number (constant Ca), a non-empty list of segments "
+                       "({\"ca\": x, \"hold\": ...}, {\"ramp\": {...}}, {\"steps\": {...}}) or "
+                       "{\"continuation\": {...}} (capflow steady), got " +
                            show(v)});
     return;
   }
@@ -354,6 +381,12 @@ void read_schedule(const json& v, std::vector<ControlIssue>* errors, CaSchedule*
 }
 
 json schedule_json(const CaSchedule& ca) {
+  if (ca.continuation)
+    return {{"continuation",
+             {{"from", ca.continuation->from},
+              {"to", ca.continuation->to},
+              {"step", ca.continuation->step},
+              {"after_fold", ca.continuation->after_fold}}}};
   if (ca.constant && ca.segments.size() == 1) return ca.segments[0].ca;
   json list = json::array();
   for (const auto& s : ca.segments) {
@@ -497,8 +530,8 @@ std::vector<Field> build_fields() {
       }));
   // time
   t.push_back(custom(
-      {"time.dt", "number or \"auto\"", "\"auto\", or a number in " + closed(kMinTimeStep, 0.1).text(),
-       "\"auto\"", "1/G", kLive,
+      {"time.dt", "number or \"auto\"",
+       "\"auto\", or a number in " + closed(kMinTimeStep, 0.1).text(), "\"auto\"", "1/G", kLive,
        "\"auto\": adaptive steps that keep the local error below time.tolerance and find the "
        "stability limit; a number: the fixed RK4 step (stable for dt < O(Ca dx_min))"},
       [](const json& v, ReadContext& c) {
@@ -507,8 +540,8 @@ std::vector<Field> build_fields() {
           return;
         }
         double d = 0;
-        const std::string issue = number_issue(v, closed(kMinTimeStep, 0.1),
-                                               "the time step dt (or \"auto\")", &d);
+        const std::string issue =
+            number_issue(v, closed(kMinTimeStep, 0.1), "the time step dt (or \"auto\")", &d);
         if (!issue.empty()) return add_error(c, "time.dt", issue);
         c.options.time.adaptive = false;
         c.options.time.dt = d;
@@ -531,8 +564,8 @@ std::vector<Field> build_fields() {
       "simulated end time (fixed dt: at least dt, at most 1e7 steps)"));
   // ca
   t.push_back(custom(
-      {"ca", "number or list", "(0, 100], or a list of segments (below)", "required", "", kLive,
-       "capillary number mu G a / Gs, or a schedule of segments"},
+      {"ca", "number, list or object", "(0, 100], a list of segments or a continuation (below)",
+       "required", "", kLive, "capillary number mu G a / Gs, or a schedule of segments"},
       [](const json& v, ReadContext& c) { read_schedule(v, &c.errors, &c.options.ca); },
       [](const O& o) -> std::optional<json> { return schedule_json(o.ca); },
       [](O& d, const O& s) { d.ca = s.ca; }));
@@ -825,6 +858,13 @@ std::string control_reference_markdown() {
        "with one starts from the current Ca (after `start.from`, the source run's Ca; from rest, "
        "steps start at 0 and a ramp is refused: it would pass through Ca = 0). After the last "
        "segment its final level is held until `t_end`.\n\n"
+    << "`capflow steady` solves at the levels of a number, of holds and of steps (a ramp has "
+       "none), or follows a branch: `\"ca\": {\"continuation\": {\"from\": a, \"to\": b, "
+       "\"step\": s, \"after_fold\": n}}` (pseudo-arclength continuation from Ca = a towards b; "
+       "s, (0, 10], is the first and the largest change of Ca per state, the steps adapt down "
+       "to s/64; a fold, a largest or smallest Ca of the branch, is located and reported, and "
+       "n, [0, 1000], default 3, more states follow on the branch beyond it). `capflow run` "
+       "refuses a continuation.\n\n"
     << "## Limits\n\n"
     << "| what | limit |\n|---|---|\n"
     << "| control file | a regular file (a symlink to one is followed), at most "
@@ -855,7 +895,8 @@ std::string control_fuzz_dictionary() {
         s = e + 1;
       }
   }
-  for (const char* w : {"hold", "steady", "ramp", "to", "rate", "steps", "by", "auto"})
+  for (const char* w : {"hold", "steady", "ramp", "to", "rate", "steps", "by", "auto",
+                        "continuation", "from", "step", "after_fold"})
     words.insert(w);
   std::ostringstream d;
   d << "# libFuzzer dictionary of the control file: generated by `capflow reference "

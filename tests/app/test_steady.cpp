@@ -119,3 +119,44 @@ TEST(Steady, StepsGiveOneStateAndOneCheckpointPerLevel) {
   EXPECT_EQ(app::RunDirectory::checkpoints(d).size(), 3u);
   fs::remove_all(d);
 }
+
+TEST(Steady, AContinuationFollowsTheBranchToTheEndOfItsRange) {
+  const fs::path dc = test::fresh_dir("steady_branch"), dl = test::fresh_dir("steady_level");
+  const std::string branch = R"({"capsule": {"law": "skalak", "C": 1},
+    "mesh": {"elements": 6, "nb": 8, "division": "diagonal"}, "flow": {"type": "planar-extension"},
+    "ca": {"continuation": {"from": 0.3, "to": 0.5, "step": 0.1}}, "output": {"mp4": false}})";
+  const app::SteadySummary s = app::run_steady(parse(branch, dc), false);
+  ASSERT_EQ(s.exit_code(), 0) << s.failure;
+  ASSERT_GE(s.states, 3);
+  EXPECT_FALSE(s.fold_ca.has_value());  // the Skalak branch rises monotonically here
+  const std::vector<double> ca = test::csv_column(dc / "steady.csv", "ca");
+  const std::vector<double> residual = test::csv_column(dc / "steady.csv", "residual");
+  ASSERT_EQ(ca.size(), static_cast<size_t>(s.states));
+  EXPECT_EQ(ca.front(), 0.3);
+  EXPECT_EQ(ca.back(), 0.5);  // the last state lands on the end of the range
+  for (size_t k = 0; k < ca.size(); ++k) {
+    EXPECT_LE(residual[k], 1e-7) << k;
+    if (k) EXPECT_GT(ca[k], ca[k - 1]);
+    if (k) EXPECT_LE(ca[k] - ca[k - 1], 0.1 + 1e-12);
+  }
+  EXPECT_EQ(std::distance(fs::directory_iterator(dc / "checkpoints"), fs::directory_iterator{}),
+            s.states);
+  // The branch's last state is the root a solve at Ca = 0.5 finds (both to residual 1e-7).
+  const std::string level = R"({"capsule": {"law": "skalak", "C": 1},
+    "mesh": {"elements": 6, "nb": 8, "division": "diagonal"}, "flow": {"type": "planar-extension"},
+    "ca": 0.5, "output": {"mp4": false}})";
+  ASSERT_EQ(app::run_steady(parse(level, dl), false).states, 1);
+  EXPECT_NEAR(test::csv_column(dl / "steady.csv", "D").at(0),
+              test::csv_column(dc / "steady.csv", "D").back(), 1e-6);
+  EXPECT_NEAR(test::csv_column(dl / "steady.csv", "L").at(0),
+              test::csv_column(dc / "steady.csv", "L").back(), 1e-6);
+  // capflow run refuses a continuation (exit 2, naming capflow steady).
+  const fs::path ctl = dc / "branch.json";
+  test::write_file(ctl, branch);
+  EXPECT_EQ(test::run_capflow({CAPFLOW_EXE, "run", ctl.string(), "-o", (dc / "run").string()},
+                              dc / "log", 60),
+            2);
+  EXPECT_NE(test::read_file(dc / "log").find("capflow steady"), std::string::npos);
+  fs::remove_all(dc);
+  fs::remove_all(dl);
+}

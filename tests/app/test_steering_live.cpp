@@ -174,6 +174,18 @@ TEST(SteeringRegression, HostileLiveEditsAreRefusedAndTheRunGoesOn) {
     EXPECT_NE(e["errors"].dump().find(expect[k]), std::string::npos)
         << k << " " << e.dump().substr(0, 300);
   }
+  // A continuation is capflow steady's: the edit of "ca" is refused, the run holds its Ca.
+  replace_with([&](const fs::path& p) {
+    test::write_file(p, base_control(R"({"continuation": {"from": 0.3, "to": 1, "step": 0.1}})"));
+  });
+  ASSERT_TRUE(test::wait_for(
+      [&] { return test::count_events(run, "edit") >= static_cast<int>(edits.size() + 1); }, 20))
+      << test::read_file(d / "stderr.log");
+  nlohmann::json e;
+  for (const auto& ev : test::events(run))
+    if (ev["event"] == "edit") e = ev;
+  EXPECT_NE(e["refused"]["ca"].dump().find("capflow steady"), std::string::npos) << e.dump();
+  EXPECT_FALSE(e["applied"].contains("ca")) << e.dump();
   replace_with([&](const fs::path& p) {
     test::write_file(p, base_control("0.3", R"(, "run": {"state": "stopped"})"));
   });

@@ -254,3 +254,35 @@ TEST(ControlEdit, CommandLineOverridesAreNotEdits) {
   EXPECT_EQ(apply_edit(r2.merged, t, nb).refused.size(), 1u);
   EXPECT_TRUE(apply_edit(r2.merged, nb, t).refused.empty());
 }
+
+TEST(ControlInput, ContinuationIsReadCheckedAndWrittenBack) {
+  const ControlOptions o =
+      parse_control(R"({"ca": {"continuation": {"from": 0.15, "to": 3, "step": 0.05}}})").options;
+  ASSERT_TRUE(o.ca.continuation.has_value());
+  EXPECT_EQ(o.ca.continuation->from, 0.15);
+  EXPECT_EQ(o.ca.continuation->to, 3.0);
+  EXPECT_EQ(o.ca.continuation->step, 0.05);
+  EXPECT_EQ(o.ca.continuation->after_fold, 3);  // the default
+  EXPECT_TRUE(o.ca.segments.empty());
+  // Written back (control.json of a run directory) and read again: the same.
+  const ControlOptions again = parse_control(to_json_text(o)).options;
+  ASSERT_TRUE(again.ca.continuation.has_value());
+  EXPECT_EQ(again.ca.continuation->to, 3.0);
+  EXPECT_EQ(again.ca.continuation->after_fold, 3);
+
+  expect_contains(issues_of(R"({"ca": {"continuation": {"from": 0.1, "to": 0.5}}})"),
+                  "ca.continuation: missing \"step\"");
+  expect_contains(issues_of(R"({"ca": {"continuation": {"from": 0.5, "to": 0.5, "step": 0.1}}})"),
+                  "ca.continuation.to");
+  expect_contains(issues_of(R"({"ca": {"continuation": {"from": 0, "to": 1, "step": 0.1}}})"),
+                  "ca.continuation.from");
+  expect_contains(
+      issues_of(
+          R"({"ca": {"continuation": {"from": 0.1, "to": 1, "step": 0.1, "after_fold": 2.5}}})"),
+      "whole number in [0, 1000]");
+  expect_contains(
+      issues_of(R"({"ca": {"continuation": {"from": 0.1, "to": 1, "step": 0.1, "stpe": 1}}})"),
+      "did you mean \"step\"");
+  expect_contains(issues_of(R"({"ca": {"continuation": 3}})"), "ca.continuation");
+  expect_contains(issues_of(R"({"ca": {"levels": [0.1]}})"), "{\"continuation\": {...}}");
+}

@@ -64,7 +64,10 @@ TEST(Schedule, StepsWaitForSteadyStateAtEachLevel) {
   st.tolerance = 1e-3;
   st.window = 0.5;
   st.min_hold = 1.0;
-  CaScheduler s(schedule_of(R"([{"ca": 0.5, "hold": "steady"}, {"steps": {"to": 1.2, "by": 0.25, "hold": "steady"}}])"), st);
+  CaScheduler s(
+      schedule_of(
+          R"([{"ca": 0.5, "hold": "steady"}, {"steps": {"to": 1.2, "by": 0.25, "hold": "steady"}}])"),
+      st);
   Relaxing r{0, 1, 1.5};
   std::vector<double> levels;
   double last_ca = s.ca(0);
@@ -90,7 +93,8 @@ TEST(Schedule, StepsWaitForSteadyStateAtEachLevel) {
 namespace {
 // Feeds flat samples (steady at once with a loose tolerance) every dt until t_end; returns the
 // steady events' (t, Ca) in order.
-std::vector<std::pair<double, double>> run_flat(CaScheduler& s, double t0, double t_end, double dt = 0.01) {
+std::vector<std::pair<double, double>> run_flat(CaScheduler& s, double t0, double t_end,
+                                                double dt = 0.01) {
   std::vector<std::pair<double, double>> out;
   for (double t = t0 + dt; t <= t_end + 1e-9; t += dt) {
     const auto ev = s.sample(t, 1, 1, 1);
@@ -108,8 +112,10 @@ SteadyOptions quick() {
 
 // The regression of Milestone 7: steady.csv and the "steady" events carried the next level's Ca.
 TEST(Schedule, SteadyEventsCarryTheCaThatWasHeld) {
-  CaScheduler s(schedule_of(R"([{"ca": 0.1, "hold": "steady"}, {"steps": {"to": 0.4, "by": 0.1, "hold": "steady"}}])"),
-                quick());
+  CaScheduler s(
+      schedule_of(
+          R"([{"ca": 0.1, "hold": "steady"}, {"steps": {"to": 0.4, "by": 0.1, "hold": "steady"}}])"),
+      quick());
   const auto steady = run_flat(s, 0, 10);
   ASSERT_EQ(steady.size(), 4u);
   const double expect[] = {0.1, 0.2, 0.3, 0.4};
@@ -126,18 +132,21 @@ TEST(Schedule, EditingTheRunningRampContinuesWithoutAJump) {
   const double ca = s.ca(3.5);
   EXPECT_NEAR(ca, 0.575, 1e-12);
   s.edit(schedule_of(after), 3.5);
-  EXPECT_NEAR(s.ca(3.5), ca, 1e-15);          // no jump
-  EXPECT_NEAR(s.ca(4.5), ca + 0.2, 1e-12);    // the new rate from the current Ca
-  EXPECT_EQ(s.segment_index(), 1);            // the hold is not replayed
+  EXPECT_NEAR(s.ca(3.5), ca, 1e-15);        // no jump
+  EXPECT_NEAR(s.ca(4.5), ca + 0.2, 1e-12);  // the new rate from the current Ca
+  EXPECT_EQ(s.segment_index(), 1);          // the hold is not replayed
   EXPECT_NEAR(s.ca(100), 1.0, 1e-12);
 }
 
 TEST(Schedule, EditingStepsKeepsTheLevelHeldAndItsTime) {
-  CaScheduler s(schedule_of(R"([{"ca": 0.1, "hold": 1.0}, {"steps": {"to": 0.5, "by": 0.1, "hold": 1.0}}])"),
-                quick());
+  CaScheduler s(
+      schedule_of(R"([{"ca": 0.1, "hold": 1.0}, {"steps": {"to": 0.5, "by": 0.1, "hold": 1.0}}])"),
+      quick());
   run_flat(s, 0, 2.5);  // at t = 2.5: level 0.3 (held since t = 2)
   EXPECT_NEAR(s.ca(2.5), 0.3, 1e-12);
-  s.edit(schedule_of(R"([{"ca": 0.1, "hold": 1.0}, {"steps": {"to": 0.9, "by": 0.3, "hold": 1.0}}])"), 2.5);
+  s.edit(
+      schedule_of(R"([{"ca": 0.1, "hold": 1.0}, {"steps": {"to": 0.9, "by": 0.3, "hold": 1.0}}])"),
+      2.5);
   EXPECT_NEAR(s.ca(2.5), 0.3, 1e-12);
   run_flat(s, 2.5, 3.05);  // the level's hold ends at t = 3 as before: then by the new increment
   EXPECT_NEAR(s.ca(3.05), 0.6, 1e-12);
@@ -172,7 +181,10 @@ TEST(Schedule, CompletedSegmentsAreNotReplayedAndANewPlanStartsHere) {
   CaScheduler s(schedule_of(R"([{"ca": 0.3, "hold": 1.0}, {"ca": 0.5, "hold": 1.0}])"), quick());
   run_flat(s, 0, 1.5);
   // appending after the running segment: nothing changes now
-  s.edit(schedule_of(R"([{"ca": 0.3, "hold": 1.0}, {"ca": 0.5, "hold": 1.0}, {"ramp": {"to": 0.9, "rate": 1}}])"), 1.5);
+  s.edit(
+      schedule_of(
+          R"([{"ca": 0.3, "hold": 1.0}, {"ca": 0.5, "hold": 1.0}, {"ramp": {"to": 0.9, "rate": 1}}])"),
+      1.5);
   EXPECT_NEAR(s.ca(1.5), 0.5, 1e-12);
   run_flat(s, 1.5, 2.2);
   EXPECT_NEAR(s.ca(2.2), 0.5 + 1.0 * (2.2 - 2.0), 1e-9);  // the ramp from 0.5
@@ -191,4 +203,15 @@ TEST(Schedule, ConstantCaEditJumpsToTheNewLevel) {
   const auto steady = run_flat(s, 0.2, 2.0);
   ASSERT_EQ(steady.size(), 1u);
   EXPECT_DOUBLE_EQ(steady[0].second, 0.5);
+}
+
+TEST(Schedule, AContinuationIsRefusedByTheRunsScheduler) {
+  const ControlOptions o =
+      parse_control(R"({"ca": {"continuation": {"from": 0.15, "to": 1, "step": 0.05}}})").options;
+  try {
+    CaScheduler s(o.ca, o.steady);
+    FAIL() << "a continuation was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("capflow steady"), std::string::npos) << e.what();
+  }
 }
