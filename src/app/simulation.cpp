@@ -15,6 +15,7 @@
 
 #include "app/errors.h"
 #include "app/figure_data.h"
+#include "app/frames.h"
 #include "app/output_cadence.h"
 #include "app/progress.h"
 #include "app/run_checkpoint.h"
@@ -184,34 +185,11 @@ struct Simulation::Impl {
   }
 
   void start_renderer() {
-    const bool want_frames =
-        opt.output.frame_every > 0 && (opt.output.png || opt.output.mp4.enabled);
-    if (!want_frames && !opt.render.preview) return;
-    render::RenderOptions ro = opt.render;
-    ro.png = want_frames && opt.output.png;
-    ro.png_dir = dir->file("frames").string();
-    ro.mp4 = want_frames && opt.output.mp4.enabled;
-    ro.mp4_path = dir->file(resumes == 0 ? std::string("movie.mp4")
-                                         : "movie.part" + std::to_string(resumes + 1) + ".mp4")
-                      .string();
-    ro.fps = opt.output.mp4.fps;
-    ro.crf = opt.output.mp4.quality;
-    ro.preview_path = dir->file("preview.png").string();
-    if (ro.png) dir->subdirectory("frames");
-    std::string err;
-    if (!ro.IsValid(&err)) throw UserError("render options: " + err);
-    renderer = std::make_unique<render::RenderThread>();
-    try {
-      renderer->start(ro, [this](const std::string& line) {
-        try {
-          say(line);
-        } catch (const std::exception&) {  // the renderer thread must not throw
-        }
-      });
-    } catch (const std::exception& e) {
-      renderer.reset();
-      throw OutputError(std::string("cannot render frames: ") + e.what());
-    }
+    renderer = app::start_renderer(
+        opt, *dir,
+        resumes == 0 ? std::string("movie.mp4")
+                     : "movie.part" + std::to_string(resumes + 1) + ".mp4",
+        opt.output.frame_every > 0, [this](const std::string& line) { say(line); });
   }
 
   void write_effective_control() { dir->write_text("control.json", control::to_json_text(opt)); }
@@ -237,19 +215,9 @@ struct Simulation::Impl {
   }
 
   render::Snapshot snapshot(const Measures& m, double ca) const {
-    render::Snapshot sn;
-    sn.ne = mesh->ne();
-    sn.nb = mesh->nb();
-    const Eigen::Matrix3Xd& x = cap->positions();
-    sn.x.assign(x.data(), x.data() + x.size());
-    const membrane::MembraneFields f = cap->fields(x);
-    sn.tau1.assign(f.tension1.data(), f.tension1.data() + f.tension1.size());
-    sn.tau2.assign(f.tension2.data(), f.tension2.data() + f.tension2.size());
-    sn.time = cap->time();
-    sn.ca = ca;
-    sn.law = membrane::to_string(opt.law.kind);
-    sn.diag = {m.shape.D, m.shape.L, m.shape.S, m.shape.W, m.tau_max, m.tau_min};
-    return sn;
+    return state_snapshot(*cap, cap->positions(), cap->time(), ca,
+                          membrane::to_string(opt.law.kind),
+                          {m.shape.D, m.shape.L, m.shape.S, m.shape.W, m.tau_max, m.tau_min});
   }
 
   void write_row(const Measures& m, double ca) {
