@@ -1,6 +1,7 @@
 // capflow steady CONTROL.json [-o DIR] [--overwrite]: steady shapes found directly as roots of
 // the node velocities, level by level of Ca (app/steady_run.h; docs/usage.md, "capflow steady").
-// Signals: SIGINT/SIGTERM/SIGHUP end the branch at once (the states found are kept).
+// Signals: SIGINT/SIGTERM/SIGHUP end the branch at once (the states found are kept), as does
+// "run": {"state": "stopped"} saved in the control file, which is watched for live edits.
 // Exit codes (app/errors.h): 0 every level solved, 2 invalid input (a rotational flow, a ramp),
 // 4 a level without a steady state, 5 a run file could not be written.
 #include <atomic>
@@ -39,6 +40,7 @@ void steady_cmd(const SteadyArgs& a) {
   } catch (const control::ControlError& e) {
     throw UserError(e.what());
   }
+  const SteadyControlFile live{a.control, parsed.options};
   if (!a.output_dir.empty()) parsed.options.output.dir = a.output_dir;
   for (const auto& w : parsed.warnings)
     if (w.path != "time.dt") std::cerr << "capflow: warning: " << w.str() << "\n";
@@ -46,7 +48,7 @@ void steady_cmd(const SteadyArgs& a) {
   std::signal(SIGINT, on_steady_signal);
   std::signal(SIGTERM, on_steady_signal);
   std::signal(SIGHUP, on_steady_signal);
-  const SteadySummary s = run_steady(parsed.options, a.overwrite, &g_stop);
+  const SteadySummary s = run_steady(parsed.options, a.overwrite, &g_stop, live);
   set_exit_code(s.exit_code());
 }
 

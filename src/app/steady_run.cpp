@@ -9,18 +9,22 @@
 #include <iomanip>
 #include <limits>
 #include <sstream>
+#include <thread>
 #include <vector>
 
 #include "app/errors.h"
+#include "app/frames.h"
 #include "app/run_checkpoint.h"
 #include "app/run_directory.h"
 #include "app/run_log.h"
+#include "app/steady_control.h"
 #include "capsule/adaptive_stepper.h"
 #include "capsule/capsule.h"
 #include "capsule/continuation.h"
 #include "capsule/health.h"
 #include "capsule/steady_solver.h"
 #include "control/control_file.h"
+#include "control/edit.h"
 #include "control/record.h"
 #include "control/schedule.h"
 #include "diagnostics/diagnostics.h"
@@ -104,7 +108,9 @@ Grid make_grid(const control::ControlOptions& o) {
 
 class SteadyRun {
  public:
-  SteadyRun(const control::ControlOptions& o, bool overwrite) : opt_(o) {
+  SteadyRun(const control::ControlOptions& o, bool overwrite,
+            const std::optional<SteadyControlFile>& live)
+      : opt_(o), file_opt_(live ? live->options : o), control_path_(live ? live->path : "") {
     if (!capsule::is_pure_straining(o.flow.gradient))
       throw UserError(
           "flow.type: capflow steady needs a pure straining flow (a symmetric flow.gradient: "
@@ -124,17 +130,22 @@ class SteadyRun {
     if (!o.start.from.empty()) start_from();
   }
 
-  SteadySummary run(const std::atomic<bool>* stop) {
+  SteadySummary run(const std::atomic<bool>* signal) {
+    control_ = std::make_unique<SteadyControl>(control_path_, signal);
     SteadySummary sum;
     announce();
+    renderer_ = start_renderer(opt_, *dir_, "movie.mp4", true,
+                               [this](const std::string& line) { say(line); });
     for (size_t i = 0; i < levels_.size(); ++i) {
-      if (stop && stop->load()) {
-        say("stopped by signal before Ca = " + fixed(levels_[i], 6));
+      between_states();
+      if (i >= levels_.size()) break;  // an edit ended the list here
+      if (stopped()) {
+        say("stopped before Ca = " + fixed(levels_[i], 6));
         break;
       }
-      const bool ok = solve_level(levels_[i], stop);
-      if (!ok && stop && stop->load()) {
-        say("stopped by signal: Ca = " + fixed(levels_[i], 6) + " not finished");
+      const bool ok = solve_level(levels_[i]);
+      if (!ok && stopped()) {
+        say("stopped: Ca = " + fixed(levels_[i], 6) + " not finished");
         break;
       }
       if (!ok && approach_failed_ && sum.states > 0) {
@@ -153,8 +164,8 @@ class SteadyRun {
       }
       ++sum.states;
     }
-    if (opt_.ca.continuation && sum.states == 1 && !(stop && stop->load()))
-      follow_branch(stop, &sum);
+    if (opt_.ca.continuation && sum.states == 1 && !stopped()) follow_branch(&sum);
+    finish_frames(&sum);
     sum.wall_s = wall();
     sum.evaluations = evaluations_;
     std::ostringstream m;
@@ -179,6 +190,175 @@ class SteadyRun {
   }
 
  private:
+  bool stopped() const { return control_->stopping(); }
+
+  // One frame per steady state (output.png, output.mp4; app/frames.h).
+  void submit_frame(double ca, const diagnostics::ShapeDiagnostics& d,
+                    const membrane::MembraneFields& f) {
+    if (!renderer_) return;
+    render::Snapshot sn =
+        state_snapshot(*fine_.cap, fine_.x, t_, ca, membrane::to_string(opt_.law.kind),
+                       {d.D, d.L, d.S, d.W, f.tension1.maxCoeff(), f.tension2.minCoeff()});
+    sn.frame = frames_++;
+    if (!renderer_->submit_frame(std::move(sn)))
+      throw OutputError("frames could not be written: " + renderer_->error());
+  }
+
+  void finish_frames(SteadySummary* sum) {
+    if (!renderer_) return;
+    const render::RenderStats rs = renderer_->stop();
+    const std::string err = renderer_->error();
+    renderer_.reset();
+    if (!err.empty()) {
+      sum->output_failed = true;
+      say("frames could not be written: " + err);
+      return;
+    }
+    say("renderer: " + std::to_string(rs.movie_frames) + " movie frame" +
+        (rs.movie_frames == 1 ? "" : "s") + " written, one per steady state");
+  }
+
+  // Between two states: the saved edits of the control file, and a pause until it is lifted.
+  void between_states() {
+    apply_edits();
+    if (opt_.run.state != control::RunState::Paused) return;
+    say("paused (run.state \"paused\"): save \"running\" to go on");
+    log_->event(Record().set("event", "paused"), t_);
+    while (opt_.run.state == control::RunState::Paused && !stopped()) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      apply_edits();
+    }
+    if (!stopped()) {
+      say("resumed");
+      log_->event(Record().set("event", "resumed"), t_);
+    }
+  }
+
+  // The saved versions of the control file since the last call (SteadyControl): applied when
+  // capflow steady uses the key (kSteadyLiveKeys), refused otherwise.
+  void apply_edits() {
+    while (std::optional<SteadyControl::Saved> saved = control_->take()) {
+      if (!saved->parsed) {
+        say("refused edit of " + control_path_ + " (the run keeps its settings):\n  " +
+            saved->error);
+        log_->event(Record()
+                        .set("event", "edit")
+                        .set("accepted", false)
+                        .set("errors", std::vector<std::string>{saved->error}),
+                    t_);
+        continue;
+      }
+      control::EditResult r = control::apply_edit(opt_, file_opt_, saved->parsed->options);
+      file_opt_ = saved->parsed->options;
+      keep_steady_keys(&r);
+      if (r.applied.empty() && r.refused.empty()) continue;
+      std::string ca_note;
+      if (r.schedule_changed) ca_note = edit_range(r.merged.ca);
+      opt_ = r.merged;
+      if (!ca_note.empty() && ca_note.rfind("refused", 0) == 0) opt_.ca = previous_ca_;
+      report_edit(r, ca_note);
+    }
+  }
+
+  // Moves the applied changes of keys capflow steady does not use to the refused ones.
+  void keep_steady_keys(control::EditResult* r) const {
+    static const char* const kSteadyLiveKeys[] = {"ca", "steady.solve_tolerance", "time.tolerance",
+                                                  "run.state"};
+    control::ControlOptions merged = opt_;
+    std::vector<control::OptionChange> applied;
+    for (control::OptionChange& c : r->applied) {
+      if (std::find(std::begin(kSteadyLiveKeys), std::end(kSteadyLiveKeys), c.path) !=
+          std::end(kSteadyLiveKeys)) {
+        applied.push_back(c);
+        continue;
+      }
+      c.reason = "capflow steady does not use it";
+      r->refused.push_back(c);
+    }
+    for (const control::OptionChange& c : applied) {
+      if (c.path == "ca") merged.ca = r->merged.ca;
+      if (c.path == "steady.solve_tolerance")
+        merged.steady.solve_tolerance = r->merged.steady.solve_tolerance;
+      if (c.path == "time.tolerance") merged.time.tolerance = r->merged.time.tolerance;
+      if (c.path == "run.state") merged.run.state = r->merged.run.state;
+    }
+    r->applied = applied;
+    r->merged = merged;
+  }
+
+  // A new "ca": the levels still to come, or the continuation's range. Returns what happens
+  // ("refused: ..." when the edit cannot apply to this run).
+  std::string edit_range(const control::CaSchedule& ca) {
+    previous_ca_ = opt_.ca;
+    const bool was_branch = opt_.ca.continuation.has_value();
+    if (was_branch != ca.continuation.has_value())
+      return std::string("refused: this run ") +
+             (was_branch ? "follows a continuation: edit its to, step or after_fold"
+                         : "solves at levels: give levels (a continuation starts a new run)");
+    if (was_branch) {
+      if (ca.continuation->from != opt_.ca.continuation->from)
+        return "refused: continuation.from cannot change once the branch has started (to, step "
+               "and after_fold can)";
+      if (branch_)
+        branch_->set_range(ca.continuation->to, ca.continuation->step, ca.continuation->after_fold);
+      std::ostringstream m;
+      m << "the branch goes on towards Ca = " << ca.continuation->to << " (steps up to "
+        << ca.continuation->step << ", " << ca.continuation->after_fold << " states after a fold)";
+      return m.str();
+    }
+    std::vector<double> next;
+    try {
+      next = levels_of(ca);
+    } catch (const UserError& e) {
+      return std::string("refused: ") + e.what();
+    }
+    // The levels beyond the last one solved, in the direction the list moves.
+    const double last = states_ > 0 ? last_ca_ : -1.0;
+    const double dir = next.size() > 1 && next.back() < next.front() ? -1.0 : 1.0;
+    std::vector<double> kept(levels_.begin(),
+                             levels_.begin() + std::min<size_t>(states_, levels_.size()));
+    for (double v : next)
+      if (states_ == 0 || (v - last) * dir > 0) kept.push_back(v);
+    levels_ = kept;
+    std::ostringstream m;
+    m << levels_.size() - std::min<size_t>(states_, levels_.size()) << " level"
+      << (levels_.size() - states_ == 1 ? "" : "s") << " to go";
+    return m.str();
+  }
+
+  void report_edit(const control::EditResult& r, const std::string& ca_note) {
+    std::ostringstream m;
+    m << "edit applied:";
+    Record applied, refused;
+    for (const auto& c : r.applied) {
+      if (c.path == "ca" && ca_note.rfind("refused", 0) == 0) {
+        m << " refused ca (" << ca_note.substr(9) << ");";
+        refused.set(c.path, Record()
+                                .set_json("old", c.old_value)
+                                .set_json("new", c.new_value)
+                                .set("reason", ca_note.substr(9)));
+        continue;
+      }
+      m << " " << c.path << " " << c.old_value << " -> " << c.new_value
+        << (c.path == "ca" ? " (" + ca_note + ")" : "") << ";";
+      applied.set(c.path, Record().set_json("old", c.old_value).set_json("new", c.new_value));
+    }
+    for (const auto& c : r.refused) {
+      m << " refused " << c.path << " (" << c.reason << ");";
+      refused.set(c.path, Record()
+                              .set_json("old", c.old_value)
+                              .set_json("new", c.new_value)
+                              .set("reason", c.reason));
+    }
+    say(m.str());
+    log_->event(Record()
+                    .set("event", "edit")
+                    .set("accepted", true)
+                    .set("applied", applied)
+                    .set("refused", refused),
+                t_);
+  }
+
   double wall() const {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   }
@@ -218,7 +398,7 @@ class SteadyRun {
 
   // Adaptive time steps on grid g at Ca = ca from g.x until the node speed is below `speed`.
   // Returns the median of the last accepted steps (0 when none), or -1 when the march failed.
-  double approach(Grid& g, double ca, double speed, const std::atomic<bool>* stop) {
+  double approach(Grid& g, double ca, double speed) {
     capsule::AdaptiveOptions ao;
     ao.tolerance = opt_.time.tolerance;
     capsule::AdaptiveStepper st(
@@ -235,7 +415,8 @@ class SteadyRun {
     std::vector<double> steps;
     double v = std::numeric_limits<double>::infinity();
     while (v > speed || steps.size() < kMinApproachSteps) {
-      if ((stop && stop->load()) || t_ - t0 > kMaxApproachTime) break;
+      apply_edits();
+      if (stopped() || t_ - t0 > kMaxApproachTime) break;
       const Eigen::VectorXd before = y;
       capsule::AdaptiveStepper::Step s;
       try {
@@ -280,22 +461,21 @@ class SteadyRun {
   // Approach and Newton on grid g, up to kSolveAttempts times. False when stopped or when the
   // approach failed (failure_ says why); otherwise *sol is the last solve (failure_ says why
   // when it did not converge).
-  bool solve_on(Grid& g, double ca, const std::atomic<bool>* stop, capsule::SteadySolution* sol,
-                int* newton, long* krylov) {
+  bool solve_on(Grid& g, double ca, capsule::SteadySolution* sol, int* newton, long* krylov) {
     double speed = kApproachSpeed;
     for (int attempt = 0; attempt < kSolveAttempts; ++attempt, speed /= 4) {
-      const double h = approach(g, ca, speed, stop);
+      const double h = approach(g, ca, speed);
       if (&g == &fine_ && h > 0) h_ca_ = ca;
       if (h < 0) {
         failure_ = "the approach failed: " + failure_;
         approach_failed_ = true;
         return false;
       }
-      if (stop && stop->load()) return false;
+      if (stopped()) return false;
       capsule::SteadySolveOptions so;
       so.step = kMapStepFactor * h;
       so.tolerance = opt_.steady.solve_tolerance;
-      so.stop = stop;
+      so.stop = control_->stop();
       *sol = capsule::solve_steady(*g.cap, g.x, ca, so);
       *newton += sol->newton;
       *krylov += sol->krylov;
@@ -310,7 +490,7 @@ class SteadyRun {
         g.x = sol->x;
         return true;
       }
-      if (stop && stop->load()) return false;
+      if (stopped()) return false;
     }
     failure_ =
         "no steady state found: " + sol->message + ", residual " + std::to_string(sol->residual);
@@ -319,16 +499,15 @@ class SteadyRun {
 
   // The first level from rest on a fine grid: solved on NB=8 first (cheap evaluations for the
   // long approach from the sphere) and resampled onto the fine grid as its starting state.
-  void coarse_start(double ca, const std::atomic<bool>* stop, int* newton, long* krylov,
-                    long* evaluations) {
+  void coarse_start(double ca, int* newton, long* krylov, long* evaluations) {
     control::ControlOptions co = opt_;
     co.mesh.nb = kCoarseNb;
     Grid coarse = make_grid(co);
     capsule::SteadySolution sol;
-    const bool ran = solve_on(coarse, ca, stop, &sol, newton, krylov);
+    const bool ran = solve_on(coarse, ca, &sol, newton, krylov);
     *evaluations += coarse.cap->velocity_evaluations();
     if (!ran || !sol.converged) {
-      if (!(stop && stop->load()))
+      if (!stopped())
         say("the NB=" + std::to_string(kCoarseNb) + " start found no steady state (" + failure_ +
             "): from rest on NB=" + std::to_string(opt_.mesh.nb));
       failure_.clear();
@@ -339,18 +518,18 @@ class SteadyRun {
         " steady state resampled onto NB=" + std::to_string(opt_.mesh.nb));
   }
 
-  bool solve_level(double ca, const std::atomic<bool>* stop) {
+  bool solve_level(double ca) {
     const auto t_level = std::chrono::steady_clock::now();
     const long evals0 = fine_.cap->velocity_evaluations();
     long evaluations = 0;
     int newton = 0;
     long krylov = 0;
     if (states_ == 0 && opt_.start.from.empty() && opt_.mesh.nb > kCoarseNb)
-      coarse_start(ca, stop, &newton, &krylov, &evaluations);
-    if (stop && stop->load()) return false;
+      coarse_start(ca, &newton, &krylov, &evaluations);
+    if (stopped()) return false;
     capsule::SteadySolution sol;
-    const bool ran = solve_on(fine_, ca, stop, &sol, &newton, &krylov);
-    if (stop && stop->load()) return false;
+    const bool ran = solve_on(fine_, ca, &sol, &newton, &krylov);
+    if (stopped()) return false;
     evaluations += fine_.cap->velocity_evaluations() - evals0;
     evaluations_ += evaluations;
     if (!ran || !sol.converged) return fail(ca, failure_);
@@ -361,17 +540,20 @@ class SteadyRun {
 
   // The branch of a continuation from the first state (capsule/continuation.h), each state
   // solved on the hyperplane of its prediction (capsule::solve_steady_on_hyperplane).
-  void follow_branch(const std::atomic<bool>* stop, SteadySummary* sum) {
+  void follow_branch(SteadySummary* sum) {
     const control::Continuation& c = *opt_.ca.continuation;
     capsule::ContinuationOptions co;
     co.from = c.from;
     co.to = c.to;
     co.step = c.step;
     co.after_fold = c.after_fold;
-    capsule::ArclengthContinuation branch(co, {flat(fine_.x), c.from});
+    branch_ = std::make_unique<capsule::ArclengthContinuation>(
+        co, capsule::BranchPoint{flat(fine_.x), c.from});
+    capsule::ArclengthContinuation& branch = *branch_;
     for (;;) {
-      if (stop && stop->load()) {
-        say("stopped by signal: the branch ends at Ca = " + fixed(branch.last().ca, 6));
+      between_states();
+      if (stopped()) {
+        say("stopped: the branch ends at Ca = " + fixed(branch.last().ca, 6));
         return;
       }
       const auto t_state = std::chrono::steady_clock::now();
@@ -379,10 +561,10 @@ class SteadyRun {
       Corrections k;
       const capsule::ArclengthContinuation::Status status =
           branch.advance([&](const capsule::BranchPoint& p, const capsule::BranchPoint& n,
-                             int* newton) { return correct(p, n, stop, &k, newton); });
+                             int* newton) { return correct(p, n, &k, newton); });
       const long evaluations = fine_.cap->velocity_evaluations() - evals0;
       evaluations_ += evaluations;
-      if (stop && stop->load()) continue;
+      if (stopped()) continue;
       if (status == capsule::ArclengthContinuation::Status::Done) return;
       if (status == capsule::ArclengthContinuation::Status::Stuck) {
         sum->resolution_limit = true;
@@ -410,14 +592,13 @@ class SteadyRun {
   // The continuation's corrector: the RK4 map step from adaptive steps measured near this Ca
   // (again when Ca moved by more than 20 % since), then Newton on the hyperplane.
   std::optional<capsule::BranchPoint> correct(const capsule::BranchPoint& p,
-                                              const capsule::BranchPoint& normal,
-                                              const std::atomic<bool>* stop, Corrections* k,
+                                              const capsule::BranchPoint& normal, Corrections* k,
                                               int* newton) {
-    if (std::abs(p.ca - h_ca_) > 0.2 * h_ca_) measure_step(p.ca, stop);
+    if (std::abs(p.ca - h_ca_) > 0.2 * h_ca_) measure_step(p.ca);
     capsule::SteadySolveOptions so;
     so.step = kMapStepFactor * fine_.h_last;
     so.tolerance = opt_.steady.solve_tolerance;
-    so.stop = stop;
+    so.stop = control_->stop();
     k->last = capsule::solve_steady_on_hyperplane(*fine_.cap, p, normal, so);
     k->newton += k->last.newton;
     k->krylov += k->last.krylov;
@@ -435,10 +616,10 @@ class SteadyRun {
 
   // The stability limit at Ca: kMinApproachSteps adaptive steps from the last state (which
   // is kept, as is the simulated time).
-  void measure_step(double ca, const std::atomic<bool>* stop) {
+  void measure_step(double ca) {
     const Eigen::Matrix3Xd x = fine_.x;
     const double t = t_, h = fine_.h_last;
-    if (approach(fine_, ca, std::numeric_limits<double>::infinity(), stop) < 0)
+    if (approach(fine_, ca, std::numeric_limits<double>::infinity()) < 0)
       fine_.h_last = h;  // the march failed: keep the last measurement
     else
       h_ca_ = ca;
@@ -481,12 +662,14 @@ class SteadyRun {
                   f.tension1.maxCoeff(), f.tension2.minCoeff(), sol.residual, sol.speed, drift,
                   newton, krylov, evaluations, wall_s);
     dir_->steady().append(buf);
+    last_ca_ = ca;
     std::ostringstream m;
     m << "steady state at Ca = " << ca << ": D = " << fixed(d.D, 6) << " L = " << fixed(d.L, 6)
       << " S = " << fixed(d.S, 6) << " W = " << fixed(d.W, 6) << " (" << evaluations
       << " velocity evaluations, " << fixed(wall_s, 1) << " s)";
     say(m.str());
     const std::string ckpt = write_checkpoint(ca);
+    submit_frame(ca, d, f);
     log_->event(Record()
                     .set("event", "steady")
                     .set("ca", ca)
@@ -536,6 +719,14 @@ class SteadyRun {
   }
 
   control::ControlOptions opt_;
+  control::ControlOptions file_opt_;  // the control file as last read (live edits)
+  control::CaSchedule previous_ca_;   // "ca" before the edit being applied
+  std::string control_path_;
+  std::unique_ptr<SteadyControl> control_;
+  std::unique_ptr<capsule::ArclengthContinuation> branch_;
+  std::unique_ptr<render::RenderThread> renderer_;
+  long frames_ = 0;
+  double last_ca_ = 0;  // the Ca of the last state found
   std::vector<double> levels_;
   std::unique_ptr<RunDirectory> dir_;
   std::unique_ptr<RunLog> log_;
@@ -555,8 +746,9 @@ class SteadyRun {
 }  // namespace
 
 SteadySummary run_steady(const control::ControlOptions& options, bool overwrite,
-                         const std::atomic<bool>* stop) {
-  SteadyRun r(options, overwrite);
+                         const std::atomic<bool>* stop,
+                         const std::optional<SteadyControlFile>& live) {
+  SteadyRun r(options, overwrite, live);
   return r.run(stop);
 }
 

@@ -23,8 +23,13 @@
 // the long approach from the sphere at cheap evaluations). When the approach to a later level
 // fails the health check, the branch has reached its resolution limit: it ends there, reported,
 // with exit 0.
-// A stop request (signal) ends the branch at once: the level being solved is dropped, the states
-// found are kept (exit 0).
+// A stop request (signal, or "run": {"state": "stopped"} saved in the control file) ends the
+// branch at once: the level being solved is dropped, the states found are kept (exit 0).
+// Live edits of the control file apply between states and approach steps: "ca" (a new list of
+// levels replaces the levels beyond the last one solved; a continuation's to, step and
+// after_fold), steady.solve_tolerance, time.tolerance and run.state
+// ("paused" holds the run after the state being solved until "running" is saved); other keys
+// are refused (events.jsonl "edit", as in capflow run).
 #pragma once
 
 #include <atomic>
@@ -49,8 +54,17 @@ struct SteadySummary {
   int exit_code() const;
 };
 
-// UserError (exit 2): a rotational flow, a ramp, an occupied output directory.
+// The live control file: its path and its options as read (before command-line overrides,
+// so that only keys saved with a new value count as edits).
+struct SteadyControlFile {
+  std::string path;
+  control::ControlOptions options;
+};
+
+// UserError (exit 2): a rotational flow, a ramp, an occupied output directory. `stop`: set by
+// a signal handler. `live`: the control file to watch (app/steady_control.h).
 SteadySummary run_steady(const control::ControlOptions& options, bool overwrite,
-                         const std::atomic<bool>* stop = nullptr);
+                         const std::atomic<bool>* stop = nullptr,
+                         const std::optional<SteadyControlFile>& live = std::nullopt);
 
 }  // namespace capflow::app

@@ -3,7 +3,9 @@
 // are refused; levels from steps.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
+#include <thread>
 
 #include "app/errors.h"
 #include "app/run_directory.h"
@@ -159,4 +161,87 @@ TEST(Steady, AContinuationFollowsTheBranchToTheEndOfItsRange) {
   EXPECT_NE(test::read_file(dc / "log").find("capflow steady"), std::string::npos);
   fs::remove_all(dc);
   fs::remove_all(dl);
+}
+
+namespace {
+
+std::string live_case(const std::string& ca, const std::string& extra = "") {
+  return R"({"capsule": {"law": "skalak", "C": 1},
+    "mesh": {"elements": 6, "nb": 8, "division": "diagonal"}, "flow": {"type": "planar-extension"},
+    "output": {"mp4": false}, "ca": )" +
+         ca + extra + "}";
+}
+
+void save(const fs::path& ctl, const std::string& text) {
+  const fs::path tmp = ctl.string() + ".new";
+  test::write_file(tmp, text);
+  fs::rename(tmp, ctl);
+}
+
+}  // namespace
+
+TEST(Steady, TheLiveControlFilePausesRefusesShortensAndStops) {
+  const fs::path d = test::fresh_dir("steady_live");
+  const fs::path ctl = d / "control.json", run = d / "run";
+  const std::string branch = R"({"continuation": {"from": 0.3, "to": 2.0, "step": 0.1}})";
+  save(ctl, live_case(branch));
+  pid_t pid =
+      test::spawn({CAPFLOW_EXE, "steady", ctl.string(), "-o", run.string()}, d / "stderr.log");
+  ASSERT_TRUE(test::wait_for([&] { return test::csv_rows(run / "steady.csv") >= 2; }, 120))
+      << test::read_file(d / "stderr.log");
+  // Paused: no state is added until "running" is saved.
+  save(ctl, live_case(branch, R"(, "run": {"state": "paused"})"));
+  ASSERT_TRUE(test::wait_for([&] { return test::count_events(run, "paused") == 1; }, 60))
+      << test::read_file(d / "stderr.log");
+  const long rows = test::csv_rows(run / "steady.csv");
+  // A broken edit while paused is refused; the run keeps its settings.
+  save(ctl, "{\"ca\": ");
+  ASSERT_TRUE(test::wait_for([&] { return test::count_events(run, "edit") >= 2; }, 20));
+  std::this_thread::sleep_for(std::chrono::seconds(2));
+  EXPECT_EQ(test::csv_rows(run / "steady.csv"), rows);
+  bool refused = false;
+  for (const auto& e : test::events(run))
+    if (e["event"] == "edit" && !e["accepted"].get<bool>()) refused = true;
+  EXPECT_TRUE(refused);
+  // The range shortened (and a key steady does not use refused), then resumed: the branch ends
+  // on the new end.
+  save(ctl, live_case(R"({"continuation": {"from": 0.3, "to": 0.9, "step": 0.1}})",
+                      R"(, "steady": {"window": 2})"));
+  ASSERT_EQ(test::wait_exit(pid, 180), 0) << test::read_file(d / "stderr.log");
+  EXPECT_EQ(test::count_events(run, "resumed"), 1);
+  EXPECT_EQ(test::csv_column(run / "steady.csv", "ca").back(), 0.9);
+  nlohmann::json last_edit;
+  for (const auto& e : test::events(run))
+    if (e["event"] == "edit" && e["accepted"].get<bool>()) last_edit = e;
+  EXPECT_TRUE(last_edit["applied"].contains("ca")) << last_edit.dump();
+  EXPECT_NE(last_edit["refused"]["steady.window"].dump().find("does not use"), std::string::npos)
+      << last_edit.dump();
+
+  // "stopped" ends the branch at once (during a Newton solve), keeping the states found.
+  const fs::path run2 = d / "run2";
+  save(ctl, live_case(branch));
+  pid = test::spawn({CAPFLOW_EXE, "steady", ctl.string(), "-o", run2.string()}, d / "stderr2.log");
+  ASSERT_TRUE(test::wait_for([&] { return test::csv_rows(run2 / "steady.csv") >= 1; }, 120));
+  save(ctl, live_case(branch, R"(, "run": {"state": "stopped"})"));
+  EXPECT_EQ(test::wait_exit(pid, 30), 0) << test::read_file(d / "stderr2.log");
+  EXPECT_EQ(test::count_events(run2, "end"), 1);
+  EXPECT_LT(test::csv_column(run2 / "steady.csv", "ca").back(), 2.0);
+  fs::remove_all(d);
+}
+
+TEST(Steady, OneFramePerSteadyState) {
+  const fs::path d = test::fresh_dir("steady_frames");
+  control::ControlOptions o = parse(
+      live_case(R"([{"ca": 0.3}, {"ca": 0.4}])", R"(, "render": {"width": 160, "height": 120})"),
+      d);
+  o.output.png = true;
+  o.output.mp4.enabled = true;
+  const app::SteadySummary s = app::run_steady(o, false);
+  ASSERT_EQ(s.exit_code(), 0) << s.failure;
+  ASSERT_EQ(s.states, 2);
+  EXPECT_TRUE(fs::exists(d / "frames" / "frame_000000.png"));
+  EXPECT_TRUE(fs::exists(d / "frames" / "frame_000001.png"));
+  EXPECT_FALSE(fs::exists(d / "frames" / "frame_000002.png"));
+  EXPECT_GT(fs::file_size(d / "movie.mp4"), 0u);
+  fs::remove_all(d);
 }
