@@ -300,7 +300,8 @@ class SteadyRun {
         return "refused: continuation.from cannot change once the branch has started (to, step "
                "and after_fold can)";
       if (branch_)
-        branch_->set_range(ca.continuation->to, ca.continuation->step, ca.continuation->after_fold);
+        branch_->set_range(ca.continuation->to, ca.continuation->step, ca.continuation->after_fold,
+                           ca.continuation->at);
       std::ostringstream m;
       m << "the branch goes on towards Ca = " << ca.continuation->to << " (steps up to "
         << ca.continuation->step << ", " << ca.continuation->after_fold << " states after a fold)";
@@ -547,6 +548,7 @@ class SteadyRun {
     co.to = c.to;
     co.step = c.step;
     co.after_fold = c.after_fold;
+    co.at = c.at;
     branch_ = std::make_unique<capsule::ArclengthContinuation>(
         co, capsule::BranchPoint{flat(fine_.x), c.from});
     capsule::ArclengthContinuation& branch = *branch_;
@@ -575,11 +577,11 @@ class SteadyRun {
       }
       fine_.x =
           Eigen::Map<const Eigen::Matrix3Xd>(branch.last().y.data(), 3, branch.last().y.size() / 3);
+      if (branch.fold_found_now()) report_fold(*branch.fold(), c.after_fold, sum);
       write_state(
           branch.last().ca, k.last, k.newton, k.krylov, evaluations,
           std::chrono::duration<double>(std::chrono::steady_clock::now() - t_state).count());
       ++sum->states;
-      if (branch.fold_found_now()) report_fold(*branch.fold(), c.after_fold, sum);
     }
   }
 
@@ -628,13 +630,22 @@ class SteadyRun {
   }
 
   void report_fold(const capsule::Fold& f, int after_fold, SteadySummary* sum) {
-    sum->fold_ca = f.ca;
+    if (!sum->fold_ca) sum->fold_ca = f.ca;
+    ++folds_;
     std::ostringstream m;
     m << "fold at Ca = " << fixed(f.ca, 6) << " (after state " << f.after_state
-      << "): no steady state on this branch beyond it; " << after_fold << " more state"
-      << (after_fold == 1 ? "" : "s") << " on the branch past it";
+      << "): the branch turns back in Ca there; "
+      << (folds_ % 2 ? "the states past it are unstable (a time march leaves them)"
+                     : "the states past it are stable again")
+      << "; " << after_fold << " state" << (after_fold == 1 ? "" : "s")
+      << " past the first fold in all";
     say(m.str());
-    log_->event(Record().set("event", "fold").set("ca", f.ca).set("arclength", f.arclength), t_);
+    log_->event(Record()
+                    .set("event", "fold")
+                    .set("ca", f.ca)
+                    .set("arclength", f.arclength)
+                    .set("folds", folds_),
+                t_);
   }
 
   static Eigen::VectorXd flat(const Eigen::Matrix3Xd& x) {
@@ -657,10 +668,10 @@ class SteadyRun {
     char buf[768];
     std::snprintf(buf, sizeof buf,
                   "%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,"
-                  "%.3e,%.3e,%.3e,%d,%ld,%ld,%.3f\n",
+                  "%.3e,%.3e,%.3e,%d,%ld,%ld,%.3f,%d\n",
                   t_, ca, d.L, d.S, d.W, d.Lc, d.Sc, d.Wc, d.D, d.area, d.edge_curvature,
                   f.tension1.maxCoeff(), f.tension2.minCoeff(), sol.residual, sol.speed, drift,
-                  newton, krylov, evaluations, wall_s);
+                  newton, krylov, evaluations, wall_s, folds_);
     dir_->steady().append(buf);
     last_ca_ = ca;
     std::ostringstream m;
@@ -726,6 +737,7 @@ class SteadyRun {
   std::unique_ptr<capsule::ArclengthContinuation> branch_;
   std::unique_ptr<render::RenderThread> renderer_;
   long frames_ = 0;
+  int folds_ = 0;       // folds the continuation passed
   double last_ca_ = 0;  // the Ca of the last state found
   std::vector<double> levels_;
   std::unique_ptr<RunDirectory> dir_;

@@ -16,9 +16,13 @@
 //   steady.csv  t,ca,L,S,W,Lc,Sc,Wc,D,area,edge_curvature,tau_max,tau_min (as `capflow run`'s)
 //               then residual (max |F|, a G), speed (max node speed, a G: the volume leak's
 //               dilation), volume_drift, newton, krylov, evaluations (velocity evaluations of
-//               this level), wall_s;  t is the simulated time the approach took in all
+//               this level), wall_s, folds (the folds a continuation passed before this
+//               state: odd, the state is on an unstable part of the branch, which a time march
+//               leaves - within the mirror-symmetric shapes the solver works in; 0 for levels);
+//               t is the simulated time the approaches took in all
 //   checkpoints/ one per steady state (`start.from`, `capflow render`/`figure`, --resume of a
-//               `capflow run`)      events.jsonl (start, steady, failure, end)   run.log
+//               `capflow run`)      events.jsonl (start, steady, fold, edit, paused, resumed,
+//               failure, branch_end, end)   run.log
 // The first level from rest on NB > 8 is solved on NB=8 first and resampled (mesh sequencing:
 // the long approach from the sphere at cheap evaluations). When the approach to a later level
 // fails the health check, the branch has reached its resolution limit: it ends there, reported,

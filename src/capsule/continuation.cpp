@@ -43,12 +43,14 @@ ArclengthContinuation::ArclengthContinuation(const ContinuationOptions& o, Branc
   s1_ = 0;
 }
 
-void ArclengthContinuation::set_range(double to, double step, int after_fold) {
+void ArclengthContinuation::set_range(double to, double step, int after_fold,
+                                      const std::vector<double>& at) {
   if (!(step > 0) || after_fold < 0)
     throw std::invalid_argument("ArclengthContinuation::set_range: needs step > 0");
   opt_.to = to;
   opt_.step = step;
   opt_.after_fold = after_fold;
+  opt_.at = at;
   ds_ = std::min(ds_, step);
 }
 
@@ -81,10 +83,19 @@ ArclengthContinuation::Status ArclengthContinuation::advance(const BranchCorrect
     double ds = std::min(ds_, max_step(t));
     BranchPoint pred = along(p1_, ds, t);
     BranchPoint normal = t;
-    // The end of the range the branch heads for: land on it exactly (the hyperplane Ca = b).
-    const double bound = t.ca * dir_ > 0 ? opt_.to : opt_.from;
+    // The end of the range the branch heads for, or a Ca of `at` passed on the way: land on it
+    // exactly (the hyperplane Ca = b).
+    double bound = t.ca * dir_ > 0 ? opt_.to : opt_.from;
+    bool end = true;
+    const double sc = sign(t.ca);
+    for (double a : opt_.at)
+      if ((a - p1_.ca) * sc > 1e-12 * std::max(1.0, std::abs(a)) && (bound - a) * sc > 0 &&
+          (pred.ca - a) * sc >= 0) {
+        bound = a;
+        end = false;
+      }
     bool landing = false;
-    if (t.ca != 0 && (pred.ca - bound) * sign(t.ca) >= 0) {
+    if (t.ca != 0 && (pred.ca - bound) * sc >= 0) {
       ds = (bound - p1_.ca) / t.ca;
       pred = along(p1_, ds, t);
       pred.ca = bound;
@@ -109,7 +120,7 @@ ArclengthContinuation::Status ArclengthContinuation::advance(const BranchCorrect
         s1_ = s0_ + len;
         ++states_;
         if (fold_) ++after_;
-        landed_ = landing;
+        landed_ = landing && end;
         if (states_ >= 3 && sign(p1_.ca - p0_.ca) * sign(prev_dca) < 0) locate_fold();
         if (newton <= kFewNewton) ds_ = ds_ * kGrow;
         if (newton >= kManyNewton) ds_ = ds_ * kShrink;

@@ -16,7 +16,8 @@
 // iterations, shrinks by 0.7 after >= 8, and halves when the corrector fails or the new secant
 // turns by more than 37 degrees from the last (a jump to another branch); below step / 64 the
 // branch ends (a singular point or the resolution limit of the discretisation).
-// The last state lands on Ca = to exactly (the hyperplane Ca = to). A fold is detected when the
+// The last state lands on Ca = to exactly (the hyperplane Ca = to), and so do states at the Ca
+// values of `at` wherever the branch passes them. A fold is detected when the
 // secant's Ca component changes sign, and located as the vertex of the parabola Ca(s) through
 // the last three points; `after_fold` more states follow on the branch beyond it. The branch also
 // ends when its Ca leaves the range between `from` and `to`.
@@ -26,6 +27,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace capflow::capsule {
 
@@ -42,6 +44,7 @@ struct ContinuationOptions {
   double step = 0;          // the first and largest change of Ca per state
   int after_fold = 3;       // states beyond a fold (0: the branch ends with the state that
                             // passes it)
+  std::vector<double> at;   // Ca values the branch lands on exactly where it passes them
 };
 
 // A fold located on the branch.
@@ -77,7 +80,7 @@ class ArclengthContinuation {
   const std::string& why() const { return why_; }
 
   // Change of the range while the branch goes on (live edits): keeps the branch.
-  void set_range(double to, double step, int after_fold);
+  void set_range(double to, double step, int after_fold, const std::vector<double>& at);
 
  private:
   bool done() const;

@@ -91,12 +91,15 @@ struct CaSegment {
 // steady states from `from` towards `to` by pseudo-arclength continuation (app/steady_run.h):
 // the steps adapt between step/64 and `step` (the largest change of Ca per state), a fold
 // (dCa/ds changes sign) is located and reported, and `after_fold` more states are computed on the
-// branch beyond it. capflow run refuses it (a run holds levels, ramps and steps).
+// branch beyond it; states land exactly on the Ca values of `at` where the branch passes them.
+// capflow run refuses it (a run holds levels, ramps and steps).
 struct Continuation {
-  double from = 0;     // the first level, (0, 100]
-  double to = 0;       // the end of the range, (0, 100], != from
-  double step = 0;     // the first and the largest change of Ca per state, (0, 10]
-  int after_fold = 3;  // states beyond a fold, [0, 1000] (0: the branch ends at the fold)
+  double from = 0;         // the first level, (0, 100]
+  double to = 0;           // the end of the range, (0, 100], != from
+  double step = 0;         // the first and the largest change of Ca per state, (0, 10]
+  int after_fold = 3;      // states beyond a fold, [0, 1000] (0: the branch ends at the fold)
+  std::vector<double> at;  // Ca values in the range to land on exactly (e.g. to compare with
+                           // marched states), at most 1000
 };
 
 struct CaSchedule {

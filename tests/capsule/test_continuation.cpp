@@ -4,6 +4,7 @@
 // converges.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "capsule/continuation.h"
@@ -110,6 +111,23 @@ TEST(Continuation, LandsOnTheEndOfTheRangeWithoutAFold) {
   EXPECT_EQ(k.advance(m.corrector()), ArclengthContinuation::Status::Done);
 }
 
+TEST(Continuation, LandsOnTheRequestedCaValuesOnTheWay) {
+  Model m;
+  m.fold = false;
+  ContinuationOptions o;
+  o.from = 0.2;
+  o.to = 1.0;
+  o.step = 0.15;
+  o.at = {0.45, 0.6, 0.61, 2.0};  // 2.0 lies outside the range: never reached
+  ArclengthContinuation k(o, point(0.04, 0.2));
+  std::vector<double> seen;
+  while (k.advance(m.corrector()) == ArclengthContinuation::Status::State)
+    seen.push_back(k.last().ca);
+  for (double a : {0.45, 0.6, 0.61, 1.0})
+    EXPECT_EQ(std::count(seen.begin(), seen.end(), a), 1) << a;
+  EXPECT_EQ(seen.back(), 1.0);
+}
+
 TEST(Continuation, DecreasingRangesAndLiveEditsOfTheEnd) {
   Model m;
   m.fold = false;
@@ -120,7 +138,7 @@ TEST(Continuation, DecreasingRangesAndLiveEditsOfTheEnd) {
   ArclengthContinuation k(o, point(1.0, 1.0));
   ASSERT_EQ(k.advance(m.corrector()), ArclengthContinuation::Status::State);
   EXPECT_NEAR(k.last().ca, 0.9, 1e-12);  // the first step is a natural one
-  k.set_range(0.75, 0.1, 3);             // the range shortened while the branch goes on
+  k.set_range(0.75, 0.1, 3, {});         // the range shortened while the branch goes on
   while (k.advance(m.corrector()) == ArclengthContinuation::Status::State) {
   }
   EXPECT_EQ(k.last().ca, 0.75);

@@ -284,5 +284,14 @@ TEST(ControlInput, ContinuationIsReadCheckedAndWrittenBack) {
       issues_of(R"({"ca": {"continuation": {"from": 0.1, "to": 1, "step": 0.1, "stpe": 1}}})"),
       "did you mean \"step\"");
   expect_contains(issues_of(R"({"ca": {"continuation": 3}})"), "ca.continuation");
+  const ControlOptions at =
+      parse_control(
+          R"({"ca": {"continuation": {"from": 0.15, "to": 3, "step": 0.05, "at": [0.45, 1.25]}}})")
+          .options;
+  EXPECT_EQ(at.ca.continuation->at, (std::vector<double>{0.45, 1.25}));
+  expect_contains(
+      issues_of(
+          R"({"ca": {"continuation": {"from": 0.1, "to": 1, "step": 0.1, "at": [0.5, -1]}}})"),
+      "ca.continuation.at[1]");
   expect_contains(issues_of(R"({"ca": {"levels": [0.1]}})"), "{\"continuation\": {...}}");
 }
