@@ -1,4 +1,5 @@
 #include "control/control_file.h"
+#include "control/stability.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,10 +7,10 @@
 #include <limits>
 #include <map>
 #include <mutex>
-#include <tuple>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
+#include <tuple>
 
 #include "control/json_input.h"
 #include "control/limits.h"
@@ -25,6 +26,10 @@ using schema::Group;
 using schema::show;
 
 namespace {
+
+// time.dt warns above this fraction of the fitted stability limit (control/stability.h: the fit
+// is within 5 % of every measured limit).
+constexpr double kStabilityMargin = 0.9;
 
 // The value at a dotted path of `doc`, or nullptr when absent (or a parent is not an object).
 const json* lookup(const json& doc, const std::string& path) {
@@ -114,12 +119,18 @@ void add_warnings(const json& doc, const ControlOptions& o, std::vector<ControlI
   double ca_min = std::numeric_limits<double>::infinity();
   for (const auto& s : o.ca.segments)
     ca_min = std::min(ca_min, s.kind == CaSegment::Kind::Hold ? s.ca : s.to);
-  const double dx = min_node_spacing(o.mesh);
-  if (!o.time.adaptive && o.time.dt > ca_min * dx) {
-    std::ostringstream s;
-    s << "dt = " << o.time.dt << " exceeds the stability estimate Ca_min * dx_min = " << ca_min
-      << " * " << dx << " = " << ca_min * dx << " (paper eq. 16): the run may become unstable";
-    warnings->push_back({"time.dt", s.str()});
+  if (!o.time.adaptive && std::isfinite(ca_min)) {
+    const double limit = fixed_step_limit(o.mesh, o.law.kind, ca_min);
+    if (o.time.dt > kStabilityMargin * limit) {
+      std::ostringstream s;
+      s << "dt = " << o.time.dt << " is above " << kStabilityMargin * 100
+        << " % of the measured stability limit of fixed RK4 steps for this mesh and law at the "
+           "smallest Ca of the schedule, "
+        << ca_min << ": about " << limit
+        << " (docs/performance.md, \"Fixed steps: the stability limit\"): the run will likely "
+           "fail its health check; \"auto\" steps find the limit themselves";
+      warnings->push_back({"time.dt", s.str()});
+    }
   }
   if (o.flow.type == capsule::FlowType::PlanarExtension && o.mesh.elements != 14 &&
       o.mesh.division == geometry::Division::Cube)
@@ -170,7 +181,8 @@ double min_node_spacing(const MeshOptions& options) {
   // slowest part of parsing.
   static std::mutex mu;
   static std::map<std::tuple<int, int, int>, double> cache;
-  const auto key = std::make_tuple(options.elements, options.nb, static_cast<int>(options.division));
+  const auto key =
+      std::make_tuple(options.elements, options.nb, static_cast<int>(options.division));
   {
     std::lock_guard<std::mutex> l(mu);
     const auto it = cache.find(key);

@@ -3,8 +3,8 @@
 // The only place in capflow that parses JSON. Every problem is reported with its JSON path
 // (e.g. "ca[2].ramp.rate"), the offending value and the valid range or alternatives; unknown
 // keys get a "did you mean" suggestion. All problems of a file are collected and reported
-// together (ControlError::issues). Warnings flag legal but suspicious values (e.g. a time step
-// above the stability estimate dt < Ca_min dx_min, paper eq. 16).
+// together (ControlError::issues). Warnings flag legal but suspicious values (e.g. a fixed time
+// step near or above the measured stability limit, control/stability.h).
 #pragma once
 
 #include <memory>
@@ -44,7 +44,7 @@ capsule::DynamicsOptions dynamics_options(const ControlOptions& options);
 // The spectral-element mesh the "mesh" options describe.
 std::unique_ptr<geometry::Mesh> make_mesh(const MeshOptions& mesh);
 
-// Smallest node spacing of the reference mesh (for the time-step warning).
+// Smallest node spacing of the reference mesh (for the time-step warning, control/stability.h).
 double min_node_spacing(const MeshOptions& mesh);
 
 std::string to_string(RunState s);
