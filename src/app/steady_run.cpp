@@ -50,6 +50,9 @@ constexpr double kMaxApproachTime = 400;  // simulated time the approach may tak
 constexpr int kSolveAttempts = 3;
 constexpr int kMinApproachSteps = 10;  // for the controller to reach the stability limit
 constexpr int kCoarseNb = 8;           // the first level is solved on NB=8 first
+// A continuation's corrector converges in 4-8 Newton iterations from a good prediction; one that
+// needs more is better retried with a shorter step (capsule/continuation.h).
+constexpr int kMaxCorrectorNewton = 15;
 
 const char* const kTimeseriesHeader =
     "t,ca,D,L,S,W,Lc,Sc,Wc,area,volume,edge_curvature,tau_max,tau_min,inclination_deg,"
@@ -192,17 +195,22 @@ class SteadyRun {
  private:
   bool stopped() const { return control_->stopping(); }
 
-  // One frame per steady state (output.png, output.mp4; app/frames.h).
+  // One frame per steady state (output.png, output.mp4; app/frames.h); the preview
+  // (render.preview) shows the last state.
   void submit_frame(double ca, const diagnostics::ShapeDiagnostics& d,
                     const membrane::MembraneFields& f) {
     if (!renderer_) return;
     render::Snapshot sn =
         state_snapshot(*fine_.cap, fine_.x, t_, ca, membrane::to_string(opt_.law.kind),
                        {d.D, d.L, d.S, d.W, f.tension1.maxCoeff(), f.tension2.minCoeff()});
+    if (opt_.render.preview) renderer_->offer_preview(sn);
+    if (!frames_wanted()) return;
     sn.frame = frames_++;
     if (!renderer_->submit_frame(std::move(sn)))
       throw OutputError("frames could not be written: " + renderer_->error());
   }
+
+  bool frames_wanted() const { return opt_.output.png || opt_.output.mp4.enabled; }
 
   void finish_frames(SteadySummary* sum) {
     if (!renderer_) return;
@@ -214,8 +222,11 @@ class SteadyRun {
       say("frames could not be written: " + err);
       return;
     }
-    say("renderer: " + std::to_string(rs.movie_frames) + " movie frame" +
-        (rs.movie_frames == 1 ? "" : "s") + " written, one per steady state");
+    if (frames_wanted())
+      say("renderer: " + std::to_string(frames_) + " frame" + (frames_ == 1 ? "" : "s") +
+          " written, one per steady state" +
+          (opt_.output.mp4.enabled ? " (" + std::to_string(rs.movie_frames) + " in the movie)"
+                                   : std::string()));
   }
 
   // Between two states: the saved edits of the control file, and a pause until it is lifted.
@@ -601,6 +612,7 @@ class SteadyRun {
     so.step = kMapStepFactor * fine_.h_last;
     so.tolerance = opt_.steady.solve_tolerance;
     so.stop = control_->stop();
+    so.max_newton = kMaxCorrectorNewton;
     k->last = capsule::solve_steady_on_hyperplane(*fine_.cap, p, normal, so);
     k->newton += k->last.newton;
     k->krylov += k->last.krylov;
