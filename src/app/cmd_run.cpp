@@ -14,20 +14,11 @@
 
 #include "app/commands.h"
 #include "app/simulation.h"
+#include "app/stop_signal.h"
 #include "control/control_file.h"
 
 namespace capflow::app {
 namespace {
-
-std::atomic<bool> g_stop{false};
-extern "C" void on_signal(int sig) {
-  if (g_stop.load()) {
-    std::signal(sig, SIG_DFL);
-    std::raise(sig);  // second signal: exit at once
-    return;
-  }
-  g_stop.store(true);
-}
 
 struct RunArgs {
   std::string control;
@@ -75,10 +66,7 @@ std::unique_ptr<Simulation> new_run(const RunArgs& a) {
 void run_cmd(const RunArgs& a) {
   std::signal(SIGXFSZ, SIG_IGN);
   std::unique_ptr<Simulation> sim = a.resume.empty() ? new_run(a) : resume_run(a);
-  std::signal(SIGINT, on_signal);
-  std::signal(SIGTERM, on_signal);
-  std::signal(SIGHUP, on_signal);
-  const RunSummary s = sim->run(&g_stop);
+  const RunSummary s = sim->run(install_stop_signals());
   set_exit_code(s.exit_code());
 }
 

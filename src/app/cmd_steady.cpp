@@ -5,27 +5,17 @@
 // Exit codes (app/errors.h): 0 every level solved, 2 invalid input (a rotational flow, a ramp),
 // 4 a level without a steady state, 5 a run file could not be written.
 #include <atomic>
-#include <csignal>
 #include <iostream>
 #include <memory>
 #include <string>
 
 #include "app/commands.h"
 #include "app/steady_run.h"
+#include "app/stop_signal.h"
 #include "control/control_file.h"
 
 namespace capflow::app {
 namespace {
-
-std::atomic<bool> g_stop{false};
-extern "C" void on_steady_signal(int sig) {
-  if (g_stop.load()) {
-    std::signal(sig, SIG_DFL);
-    std::raise(sig);
-    return;
-  }
-  g_stop.store(true);
-}
 
 struct SteadyArgs {
   std::string control;
@@ -44,11 +34,7 @@ void steady_cmd(const SteadyArgs& a) {
   if (!a.output_dir.empty()) parsed.options.output.dir = a.output_dir;
   for (const auto& w : parsed.warnings)
     if (w.path != "time.dt") std::cerr << "capflow: warning: " << w.str() << "\n";
-  std::signal(SIGXFSZ, SIG_IGN);
-  std::signal(SIGINT, on_steady_signal);
-  std::signal(SIGTERM, on_steady_signal);
-  std::signal(SIGHUP, on_steady_signal);
-  const SteadySummary s = run_steady(parsed.options, a.overwrite, &g_stop, live);
+  const SteadySummary s = run_steady(parsed.options, a.overwrite, install_stop_signals(), live);
   set_exit_code(s.exit_code());
 }
 

@@ -23,6 +23,13 @@ constexpr int kSimulationFailed = 4;
 constexpr int kOutputFailed = 5;
 }  // namespace exit_code
 
+// The exit code of a command that ran: an output failure before a failed computation.
+inline int outcome_exit_code(bool failed, bool output_failed) {
+  if (output_failed) return exit_code::kOutputFailed;
+  if (failed) return exit_code::kSimulationFailed;
+  return exit_code::kOk;
+}
+
 struct UserError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };

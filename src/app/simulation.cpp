@@ -42,9 +42,7 @@ namespace fs = std::filesystem;
 using control::Record;
 
 int RunSummary::exit_code() const {
-  if (output_failed) return exit_code::kOutputFailed;
-  if (failed) return exit_code::kSimulationFailed;
-  return exit_code::kOk;
+  return outcome_exit_code(failed, output_failed);
 }
 
 namespace {

@@ -37,9 +37,7 @@ namespace fs = std::filesystem;
 using control::Record;
 
 int SteadySummary::exit_code() const {
-  if (output_failed) return exit_code::kOutputFailed;
-  if (failed) return exit_code::kSimulationFailed;
-  return exit_code::kOk;
+  return outcome_exit_code(failed, output_failed);
 }
 
 namespace {
@@ -50,9 +48,6 @@ constexpr double kMaxApproachTime = 400;  // simulated time the approach may tak
 constexpr int kSolveAttempts = 3;
 constexpr int kMinApproachSteps = 10;  // for the controller to reach the stability limit
 constexpr int kCoarseNb = 8;           // the first level is solved on NB=8 first
-// A continuation's corrector converges in 4-8 Newton iterations from a good prediction; one that
-// needs more is better retried with a shorter step (capsule/continuation.h).
-constexpr int kMaxCorrectorNewton = 15;
 
 const char* const kTimeseriesHeader =
     "t,ca,D,L,S,W,Lc,Sc,Wc,area,volume,edge_curvature,tau_max,tau_min,inclination_deg,"
@@ -612,7 +607,6 @@ class SteadyRun {
     so.step = kMapStepFactor * fine_.h_last;
     so.tolerance = opt_.steady.solve_tolerance;
     so.stop = control_->stop();
-    so.max_newton = kMaxCorrectorNewton;
     k->last = capsule::solve_steady_on_hyperplane(*fine_.cap, p, normal, so);
     k->newton += k->last.newton;
     k->krylov += k->last.krylov;
