@@ -54,7 +54,7 @@ const char* const kTimeseriesHeader =
     "volume_drift,steps,dt,wall_s\n";
 const char* const kSteadyHeader =
     "t,ca,L,S,W,Lc,Sc,Wc,D,area,edge_curvature,tau_max,tau_min,residual,speed,volume_drift,"
-    "newton,krylov,evaluations,wall_s\n";
+    "newton,krylov,evaluations,wall_s,folds\n";
 
 // The levels of Ca the control file asks for.
 std::vector<double> levels_of(const control::CaSchedule& s) {

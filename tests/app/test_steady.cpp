@@ -133,6 +133,9 @@ TEST(Steady, AContinuationFollowsTheBranchToTheEndOfItsRange) {
   EXPECT_FALSE(s.fold_ca.has_value());  // the Skalak branch rises monotonically here
   const std::vector<double> ca = test::csv_column(dc / "steady.csv", "ca");
   const std::vector<double> residual = test::csv_column(dc / "steady.csv", "residual");
+  const std::vector<double> folds = test::csv_column(dc / "steady.csv", "folds");
+  EXPECT_EQ(folds.size(), ca.size());  // the column is there, for every state
+  for (double f : folds) EXPECT_EQ(f, 0);
   ASSERT_EQ(ca.size(), static_cast<size_t>(s.states));
   EXPECT_EQ(ca.front(), 0.3);
   EXPECT_EQ(ca.back(), 0.5);  // the last state lands on the end of the range
