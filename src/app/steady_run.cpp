@@ -665,6 +665,26 @@ class SteadyRun {
     return false;
   }
 
+  // A root with compressive tension somewhere: the membrane (no bending stiffness) wrinkles
+  // there at the scale of the mesh, so the shape is not resolved (below Ca ~ 0.15 in planar
+  // extension; the neo-Hookean Ca = 0.4 root that a start from rest finds at NE=14 NB=14).
+  void warn_if_compressed(double ca, double tau_min) {
+    if (tau_min >= 0) return;
+    std::ostringstream m;
+    m << "warning: compressive tension at the steady state at Ca = " << ca
+      << " (tau_min = " << tau_min
+      << "): the membrane wrinkles there (no bending stiffness), so this root is not a resolved "
+         "steady shape";
+    say(m.str());
+    log_->event(Record()
+                    .set("event", "warning")
+                    .set("cause", "compression")
+                    .set("ca", ca)
+                    .set("tau_min", tau_min)
+                    .set("message", m.str()),
+                t_);
+  }
+
   void write_state(double ca, const capsule::SteadySolution& sol, int newton, long krylov,
                    long evaluations, double wall_s) {
     diagnostics::ShapeOptions so;
@@ -685,6 +705,7 @@ class SteadyRun {
       << " S = " << fixed(d.S, 6) << " W = " << fixed(d.W, 6) << " (" << evaluations
       << " velocity evaluations, " << fixed(wall_s, 1) << " s)";
     say(m.str());
+    warn_if_compressed(ca, f.tension2.minCoeff());
     const std::string ckpt = write_checkpoint(ca);
     submit_frame(ca, d, f);
     log_->event(Record()

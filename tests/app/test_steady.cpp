@@ -136,6 +136,7 @@ TEST(Steady, AContinuationFollowsTheBranchToTheEndOfItsRange) {
   const std::vector<double> folds = test::csv_column(dc / "steady.csv", "folds");
   EXPECT_EQ(folds.size(), ca.size());  // the column is there, for every state
   for (double f : folds) EXPECT_EQ(f, 0);
+  for (const auto& e : test::events(dc)) EXPECT_NE(e["event"], "warning") << e.dump();
   ASSERT_EQ(ca.size(), static_cast<size_t>(s.states));
   EXPECT_EQ(ca.front(), 0.3);
   EXPECT_EQ(ca.back(), 0.5);  // the last state lands on the end of the range
@@ -246,5 +247,19 @@ TEST(Steady, OneFramePerSteadyState) {
   EXPECT_TRUE(fs::exists(d / "frames" / "frame_000001.png"));
   EXPECT_FALSE(fs::exists(d / "frames" / "frame_000002.png"));
   EXPECT_GT(fs::file_size(d / "movie.mp4"), 0u);
+  fs::remove_all(d);
+}
+
+TEST(Steady, ACompressedRootIsReportedWithAWarning) {
+  // Skalak C=1 at Ca = 0.07 (NE=6 NB=8): a root exists, with compressive tension near the
+  // equator (the membrane would wrinkle: no bending stiffness).
+  const fs::path d = test::fresh_dir("steady_compressed");
+  const app::SteadySummary s = app::run_steady(parse(live_case("0.07"), d), false);
+  ASSERT_EQ(s.states, 1) << s.failure;
+  EXPECT_LT(test::csv_column(d / "steady.csv", "tau_min").at(0), 0);
+  bool warned = false;
+  for (const auto& e : test::events(d))
+    if (e["event"] == "warning" && e["cause"] == "compression") warned = true;
+  EXPECT_TRUE(warned);
   fs::remove_all(d);
 }
