@@ -18,7 +18,7 @@
 #include "app/run_directory.h"
 #include "app/run_log.h"
 #include "app/steady_control.h"
-#include "capsule/adaptive_stepper.h"
+#include "app/time_stepper.h"
 #include "capsule/capsule.h"
 #include "capsule/continuation.h"
 #include "capsule/health.h"
@@ -406,57 +406,37 @@ class SteadyRun {
   // Adaptive time steps on grid g at Ca = ca from g.x until the node speed is below `speed`.
   // Returns the median of the last accepted steps (0 when none), or -1 when the march failed.
   double approach(Grid& g, double ca, double speed) {
-    capsule::AdaptiveOptions ao;
-    ao.tolerance = opt_.time.tolerance;
-    capsule::AdaptiveStepper st(
-        [&](double, const Eigen::VectorXd& y, Eigen::VectorXd* d) {
-          const Eigen::Matrix3Xd u =
-              g.cap->velocity(Eigen::Map<const Eigen::Matrix3Xd>(y.data(), 3, y.size() / 3), ca);
-          *d = Eigen::Map<const Eigen::VectorXd>(u.data(), u.size());
-        },
-        ao);
+    control::TimeOptions time = opt_.time;
+    time.adaptive = true;
+    g.cap->set_state(g.x, t_, steps_);
+    TimeStepper st(*g.cap, time, g.h_last);
     capsule::HealthMonitor health(*g.mesh, g.x);
-    Eigen::VectorXd y = Eigen::Map<const Eigen::VectorXd>(g.x.data(), g.x.size());
-    st.restart(t_, y, g.h_last);
+    const capsule::CaFunction level = [ca](double) { return ca; };
     const double t0 = t_;
     std::vector<double> steps;
     double v = std::numeric_limits<double>::infinity();
     while (v > speed || steps.size() < kMinApproachSteps) {
       apply_edits();
       if (stopped() || t_ - t0 > kMaxApproachTime) break;
-      const Eigen::VectorXd before = y;
-      capsule::AdaptiveStepper::Step s;
-      try {
-        s = st.step(
-            t_ + 1.0,
-            [&](Eigen::VectorXd* z) {
-              Eigen::Map<Eigen::Matrix3Xd> xz(z->data(), 3, z->size() / 3);
-              Eigen::Matrix3Xd xf = xz;
-              g.cap->finish_step(&xf);
-              xz = xf;
-            },
-            [&](const Eigen::VectorXd& z, double t) {
-              const capsule::HealthReport r =
-                  health.check(Eigen::Map<const Eigen::Matrix3Xd>(z.data(), 3, z.size() / 3), t);
-              return r.level == capsule::HealthLevel::Failure ? r.message : std::string();
-            },
-            &y);
-      } catch (const capsule::StepFailure& e) {
-        failure_ = e.what();
-        return -1;
+      const Eigen::Matrix3Xd before = g.cap->positions();
+      const TimeStepper::Outcome o = st.advance(t_ + 1.0, level, health);
+      if (!o.failure.empty()) {
+        failure_ = o.failure;
+        return -1;  // g.x: the state the approach started from
       }
-      t_ = s.t;
+      t_ = g.cap->time();
       ++steps_;
-      v = (y - before).cwiseAbs().maxCoeff() / s.h;
-      steps.push_back(s.h);
+      v = (g.cap->positions() - before).cwiseAbs().maxCoeff() / o.dt;
+      steps.push_back(o.dt);
       if (progress_due()) {
         std::ostringstream m;
         m << "Ca=" << ca << " approach: t=" << fixed(t_ - t0, 3) << " node speed "
-          << std::scientific << std::setprecision(2) << v << " (until " << speed << "), dt " << s.h;
+          << std::scientific << std::setprecision(2) << v << " (until " << speed << "), dt "
+          << o.dt;
         log_->status(m.str());
       }
     }
-    g.x = Eigen::Map<const Eigen::Matrix3Xd>(y.data(), 3, y.size() / 3);
+    g.x = g.cap->positions();
     if (steps.empty()) return g.h_last;
     const size_t n = std::min<size_t>(steps.size(), 10);
     std::vector<double> last(steps.end() - n, steps.end());

@@ -6,7 +6,7 @@
 // ({"steps": {"to", "by"}}, from the level before; the first level from rest is `by`); a ramp
 // has no levels and is refused. For each level, from the previous steady state (or from rest,
 // or start.from):
-//   1. approach: adaptive time steps (capsule::AdaptiveStepper, time.tolerance) until the
+//   1. approach: adaptive time steps (app::TimeStepper on "auto", time.tolerance) until the
 //      largest node speed is below kApproachSpeed; the accepted steps there measure the
 //      stability limit;
 //   2. solve: capsule::solve_steady (Newton-Krylov on the RK4 step map, h = 0.7x those steps);
