@@ -319,17 +319,18 @@ class SteadyRun {
     } catch (const UserError& e) {
       return std::string("refused: ") + e.what();
     }
-    // The levels beyond the last one solved, in the direction the list moves.
-    const double last = states_ > 0 ? last_ca_ : -1.0;
+    // The levels beyond the last one solved (or the one being solved: an edit during its
+    // approach), in the direction the list moves.
+    const size_t done = std::min<size_t>(levels_.size(), states_ + (solving_level_ ? 1 : 0));
+    const bool any = done > 0;
+    const double last = any ? levels_[done - 1] : 0.0;
     const double dir = next.size() > 1 && next.back() < next.front() ? -1.0 : 1.0;
-    std::vector<double> kept(levels_.begin(),
-                             levels_.begin() + std::min<size_t>(states_, levels_.size()));
+    std::vector<double> kept(levels_.begin(), levels_.begin() + done);
     for (double v : next)
-      if (states_ == 0 || (v - last) * dir > 0) kept.push_back(v);
+      if (!any || (v - last) * dir > 0) kept.push_back(v);
     levels_ = kept;
     std::ostringstream m;
-    m << levels_.size() - std::min<size_t>(states_, levels_.size()) << " level"
-      << (levels_.size() - states_ == 1 ? "" : "s") << " to go";
+    m << levels_.size() - done << " level" << (levels_.size() - done == 1 ? "" : "s") << " to go";
     return m.str();
   }
 
@@ -506,6 +507,13 @@ class SteadyRun {
   }
 
   bool solve_level(double ca) {
+    solving_level_ = true;
+    const bool ok = solve_level_now(ca);
+    solving_level_ = false;
+    return ok;
+  }
+
+  bool solve_level_now(double ca) {
     const auto t_level = std::chrono::steady_clock::now();
     const long evals0 = fine_.cap->velocity_evaluations();
     long evaluations = 0;
@@ -679,7 +687,6 @@ class SteadyRun {
                   f.tension1.maxCoeff(), f.tension2.minCoeff(), sol.residual, sol.speed, drift,
                   newton, krylov, evaluations, wall_s, folds_);
     dir_->steady().append(buf);
-    last_ca_ = ca;
     std::ostringstream m;
     m << "steady state at Ca = " << ca << ": D = " << fixed(d.D, 6) << " L = " << fixed(d.L, 6)
       << " S = " << fixed(d.S, 6) << " W = " << fixed(d.W, 6) << " (" << evaluations
@@ -744,8 +751,8 @@ class SteadyRun {
   std::unique_ptr<capsule::ArclengthContinuation> branch_;
   std::unique_ptr<render::RenderThread> renderer_;
   long frames_ = 0;
-  int folds_ = 0;       // folds the continuation passed
-  double last_ca_ = 0;  // the Ca of the last state found
+  int folds_ = 0;               // folds the continuation passed
+  bool solving_level_ = false;  // a level's approach and solve are under way (levels_[states_])
   std::vector<double> levels_;
   std::unique_ptr<RunDirectory> dir_;
   std::unique_ptr<RunLog> log_;

@@ -263,3 +263,34 @@ TEST(Steady, ACompressedRootIsReportedWithAWarning) {
   EXPECT_TRUE(warned);
   fs::remove_all(d);
 }
+
+TEST(Steady, AnEditOfTheLevelsReplacesTheLevelsToCome) {
+  const fs::path d = test::fresh_dir("steady_levels_edit");
+  const fs::path ctl = d / "control.json", run = d / "run";
+  save(ctl,
+       live_case("[{\"ca\": 0.3}, {\"ca\": 0.35}, {\"ca\": 0.4}, {\"ca\": 0.45}, {\"ca\": 0.5}]"));
+  const pid_t pid =
+      test::spawn({CAPFLOW_EXE, "steady", ctl.string(), "-o", run.string()}, d / "stderr.log");
+  ASSERT_TRUE(test::wait_for([&] { return test::csv_rows(run / "steady.csv") >= 1; }, 120))
+      << test::read_file(d / "stderr.log");
+  // Paused between two states, then the edit: levels 0.4 and 0.45 dropped, 0.33 inserted (the
+  // levels beyond the last one solved: 0.33 follows 0.3, or is skipped after 0.35).
+  const std::string levels =
+      "[{\"ca\": 0.3}, {\"ca\": 0.35}, {\"ca\": 0.4}, {\"ca\": 0.45}, {\"ca\": 0.5}]";
+  save(ctl, live_case(levels, R"(, "run": {"state": "paused"})"));
+  ASSERT_TRUE(test::wait_for([&] { return test::count_events(run, "paused") == 1; }, 60))
+      << test::read_file(d / "stderr.log");
+  save(ctl, live_case("[{\"ca\": 0.3}, {\"ca\": 0.33}, {\"ca\": 0.5}]"));
+  ASSERT_EQ(test::wait_exit(pid, 180), 0) << test::read_file(d / "stderr.log");
+  const std::vector<double> ca = test::csv_column(run / "steady.csv", "ca");
+  ASSERT_GE(ca.size(), 3u);
+  EXPECT_EQ(ca.front(), 0.3);
+  EXPECT_EQ(ca.back(), 0.5);
+  for (size_t k = 1; k < ca.size(); ++k) EXPECT_GT(ca[k], ca[k - 1]);
+  for (double c : ca) {
+    EXPECT_NE(c, 0.4);
+    EXPECT_NE(c, 0.45);
+  }
+  EXPECT_EQ(ca.size(), 3u);  // 0.3, then 0.33 or 0.35, then 0.5
+  fs::remove_all(d);
+}
