@@ -395,14 +395,11 @@ struct Simulation::Impl {
     Record applied, refused;
     for (const auto& c : r.applied) {
       m << " " << c.path << " " << c.old_value << " -> " << c.new_value << ";";
-      applied.set(c.path, Record().set_json("old", c.old_value).set_json("new", c.new_value));
+      applied.set(c.path, control::change_record(c));
     }
     for (const auto& c : r.refused) {
       m << " refused " << c.path << " (" << c.reason << ");";
-      refused.set(c.path, Record()
-                              .set_json("old", c.old_value)
-                              .set_json("new", c.new_value)
-                              .set("reason", c.reason));
+      refused.set(c.path, control::change_record(c, c.reason));
     }
     if (r.schedule_changed)
       m << " Ca " << ca_before << " -> " << schedule->ca(now) << " (" << schedule_note << ")";

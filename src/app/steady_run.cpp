@@ -341,22 +341,16 @@ class SteadyRun {
     for (const auto& c : r.applied) {
       if (c.path == "ca" && ca_note.rfind("refused", 0) == 0) {
         m << " refused ca (" << ca_note.substr(9) << ");";
-        refused.set(c.path, Record()
-                                .set_json("old", c.old_value)
-                                .set_json("new", c.new_value)
-                                .set("reason", ca_note.substr(9)));
+        refused.set(c.path, control::change_record(c, ca_note.substr(9)));
         continue;
       }
       m << " " << c.path << " " << c.old_value << " -> " << c.new_value
         << (c.path == "ca" ? " (" + ca_note + ")" : "") << ";";
-      applied.set(c.path, Record().set_json("old", c.old_value).set_json("new", c.new_value));
+      applied.set(c.path, control::change_record(c));
     }
     for (const auto& c : r.refused) {
       m << " refused " << c.path << " (" << c.reason << ");";
-      refused.set(c.path, Record()
-                              .set_json("old", c.old_value)
-                              .set_json("new", c.new_value)
-                              .set("reason", c.reason));
+      refused.set(c.path, control::change_record(c, c.reason));
     }
     say(m.str());
     log_->event(Record()

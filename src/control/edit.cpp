@@ -47,6 +47,13 @@ EditResult apply_edit(const ControlOptions& effective, const ControlOptions& pre
   return r;
 }
 
+Record change_record(const OptionChange& c, const std::string& reason) {
+  Record r;
+  r.set_json("old", c.old_value).set_json("new", c.new_value);
+  if (!reason.empty()) r.set("reason", reason);
+  return r;
+}
+
 EditResult apply_edit(const ControlOptions& effective, const ControlOptions& edited) {
   return apply_edit(effective, effective, edited);
 }

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "control/options.h"
+#include "control/record.h"
 
 namespace capflow::control {
 
@@ -25,6 +26,9 @@ struct OptionChange {
   std::string new_value;  // JSON text
   std::string reason;     // for refused changes: why
 };
+
+// The change as an events.jsonl record: {"old": ..., "new": ...} and, when given, "reason".
+Record change_record(const OptionChange& change, const std::string& reason = "");
 
 struct EditResult {
   ControlOptions merged;  // the run's options with the applied changes
