@@ -1,8 +1,9 @@
 #include "diagnostics/diagnostics.h"
 
+#include "geometry/element_search.h"
+
 #include <algorithm>
 #include <cmath>
-#include <functional>
 #include <limits>
 #include <stdexcept>
 
@@ -13,79 +14,26 @@ namespace {
 using geometry::ElementEvaluator;
 using geometry::SurfacePoint;
 
-// A scalar objective phi(x) on R^3 with gradient and Hessian, restricted to the surface.
-struct Objective {
-  std::function<double(const Vector3d&)> value;
-  std::function<Vector3d(const Vector3d&)> grad;
-  Matrix3d hess;  // constant Hessian (enough for |x-c|^2/2 and linear functions)
-};
-
-struct Extremum {
-  double value = -std::numeric_limits<double>::infinity();
-  Vector3d x = Vector3d::Zero();
-};
-
-// Maximises phi over element e with box-constrained Newton from (s, t).
-Extremum maximise_on_element(const ElementEvaluator& ev, const Objective& phi, int e, double s,
-                             double t) {
-  for (int it = 0; it < 60; ++it) {
-    const SurfacePoint p = ev.eval(e, s, t);
-    const Vector3d gx = phi.grad(p.x);
-    // psi = -phi is minimised.
-    Eigen::Vector2d g(-gx.dot(p.xs), -gx.dot(p.xt));
-    Eigen::Matrix2d h;
-    h(0, 0) = -(p.xs.dot(phi.hess * p.xs) + gx.dot(p.xss));
-    h(0, 1) = h(1, 0) = -(p.xs.dot(phi.hess * p.xt) + gx.dot(p.xst));
-    h(1, 1) = -(p.xt.dot(phi.hess * p.xt) + gx.dot(p.xtt));
-    // Active set: a coordinate at its bound whose descent direction points outward is frozen.
-    bool free_s = !((s >= 1.0 && g[0] < 0) || (s <= -1.0 && g[0] > 0));
-    bool free_t = !((t >= 1.0 && g[1] < 0) || (t <= -1.0 && g[1] > 0));
-    Eigen::Vector2d step(0, 0);
-    auto newton_1d = [](double gg, double hh) { return hh > 0 ? -gg / hh : -0.1 * gg; };
-    if (free_s && free_t) {
-      const double det = h(0, 0) * h(1, 1) - h(0, 1) * h(1, 0);
-      if (h(0, 0) > 0 && det > 0)
-        step = -h.inverse() * g;
-      else
-        step = -0.1 * g / std::max(1.0, g.norm());
-    } else if (free_s) {
-      step[0] = newton_1d(g[0], h(0, 0));
-    } else if (free_t) {
-      step[1] = newton_1d(g[1], h(1, 1));
-    }
-    // Limit the step to keep Newton inside the region where the interpolant is trusted.
-    const double sn = step.norm();
-    if (sn > 0.5) step *= 0.5 / sn;
-    const double s_new = std::clamp(s + step[0], -1.0, 1.0);
-    const double t_new = std::clamp(t + step[1], -1.0, 1.0);
-    const double moved = std::abs(s_new - s) + std::abs(t_new - t);
-    s = s_new;
-    t = t_new;
-    if (moved < 1e-15) break;
-  }
-  const SurfacePoint p = ev.eval(e, s, t);
-  return {phi.value(p.x), p.x};
-}
-
-// Maximises phi over the whole surface: best node, then Newton in every element sharing it.
-Extremum maximise(const Mesh& mesh, const Matrix3Xd& x, const ElementEvaluator& ev,
-                  const Objective& phi) {
+// The minimum of psi over the whole surface: the best node, then the element minimum
+// (geometry::minimise_on_element) in every element sharing it.
+double minimise(const Mesh& mesh, const Matrix3Xd& x, const ElementEvaluator& ev,
+                const geometry::QuadraticOfPosition& psi) {
   int best = 0;
-  double best_value = -std::numeric_limits<double>::infinity();
+  double best_value = std::numeric_limits<double>::infinity();
   for (int m = 0; m < mesh.num_local(); ++m) {
-    const double v = phi.value(x.col(m));
-    if (v > best_value) {
+    const double v = psi.value(x.col(m));
+    if (v < best_value) {
       best_value = v;
       best = m;
     }
   }
-  Extremum result{best_value, x.col(best)};
+  double result = best_value;
   const int nb = mesh.nb();
   for (int q : mesh.classes()[mesh.unique_of()[best]]) {
     const int e = q / (nb * nb);
     const int i = q % nb, j = (q / nb) % nb;
-    const Extremum r = maximise_on_element(ev, phi, e, mesh.nodes()[i], mesh.nodes()[j]);
-    if (r.value > result.value) result = r;
+    result = std::min(
+        result, geometry::minimise_on_element(ev, psi, e, mesh.nodes()[i], mesh.nodes()[j]).value);
   }
   return result;
 }
@@ -141,8 +89,9 @@ double edge_curvature_at_tip(const Mesh& mesh, const Matrix3Xd& x, const Element
     *tip = p.x;
     return std::abs(d.dot(b * d)) / d.dot(g * d);
   }
-  throw std::runtime_error("edge curvature: the +x axis through the centroid does not cross "
-                           "the surface near its tip");
+  throw std::runtime_error(
+      "edge curvature: the +x axis through the centroid does not cross "
+      "the surface near its tip");
 }
 
 void assign_axes(ShapeDiagnostics* r, AxesMode mode) {
@@ -220,18 +169,14 @@ ShapeDiagnostics measure_shape(const Mesh& mesh, const Matrix3Xd& x, const Shape
   const ElementEvaluator ev(mesh, x);
   if (opt.extrema) {
     const Vector3d c = r.centroid;
-    const Objective far{[c](const Vector3d& p) { return 0.5 * (p - c).squaredNorm(); },
-                        [c](const Vector3d& p) { return Vector3d(p - c); }, Matrix3d::Identity()};
-    const Objective near{[c](const Vector3d& p) { return -0.5 * (p - c).squaredNorm(); },
-                         [c](const Vector3d& p) { return Vector3d(c - p); },
-                         -Matrix3d::Identity()};
-    const Objective up{[c](const Vector3d& p) { return p.z() - c.z(); },
-                       [](const Vector3d&) { return Vector3d(0, 0, 1); }, Matrix3d::Zero()};
-    const Objective down{[c](const Vector3d& p) { return c.z() - p.z(); },
-                         [](const Vector3d&) { return Vector3d(0, 0, -1); }, Matrix3d::Zero()};
-    r.Lc = std::sqrt(2.0 * maximise(mesh, x, ev, far).value);
-    r.Sc = std::sqrt(-2.0 * maximise(mesh, x, ev, near).value);
-    r.Wc = std::max(maximise(mesh, x, ev, up).value, maximise(mesh, x, ev, down).value);
+    // farthest point (a = -1), nearest point (a = 1), highest and lowest z (linear)
+    const geometry::QuadraticOfPosition far{-1.0, c, Vector3d::Zero()};
+    const geometry::QuadraticOfPosition near{1.0, c, Vector3d::Zero()};
+    const geometry::QuadraticOfPosition up{0.0, c, Vector3d(0, 0, -1)};
+    const geometry::QuadraticOfPosition down{0.0, c, Vector3d(0, 0, 1)};
+    r.Lc = std::sqrt(-2.0 * minimise(mesh, x, ev, far));
+    r.Sc = std::sqrt(2.0 * minimise(mesh, x, ev, near));
+    r.Wc = std::max(-minimise(mesh, x, ev, up) - c.z(), c.z() - minimise(mesh, x, ev, down));
   }
   if (opt.edge_curvature) r.edge_curvature = edge_curvature_at_tip(mesh, x, ev, r.centroid, &r.tip);
   return r;
