@@ -22,8 +22,8 @@
 #include <string>
 #include <vector>
 
-#include "capsule/capsule.h"
 #include "app/run_checkpoint.h"
+#include "capsule/capsule.h"
 #include "control/control_file.h"
 
 using namespace capflow;
@@ -44,15 +44,20 @@ stokes::QuadratureOptions variant(const std::string& spec, const stokes::Quadrat
     return o;
   }
   using Q = stokes::QuadratureOptions;
-  static const std::map<std::string, int Q::*> ints = {
-      {"n_edge", &Q::n_edge}, {"n_radial_inner", &Q::n_radial_inner}, {"n_radial", &Q::n_radial},
-      {"n_edge_near", &Q::n_edge_near}, {"n_radial_near", &Q::n_radial_near},
-      {"n_radial_near_out", &Q::n_radial_near_out}, {"near_out_panels", &Q::near_out_panels},
-      {"nq_far", &Q::nq_far}, {"nq_mid", &Q::nq_mid}};
-  static const std::map<std::string, double Q::*> reals = {
-      {"own_split", &Q::own_split}, {"own_grading", &Q::own_grading},
-      {"near_split", &Q::near_split}, {"near_factor", &Q::near_factor},
-      {"mid_factor", &Q::mid_factor}};
+  static const std::map<std::string, int Q::*> ints = {{"n_edge", &Q::n_edge},
+                                                       {"n_radial_inner", &Q::n_radial_inner},
+                                                       {"n_radial", &Q::n_radial},
+                                                       {"n_edge_near", &Q::n_edge_near},
+                                                       {"n_radial_near", &Q::n_radial_near},
+                                                       {"n_radial_near_out", &Q::n_radial_near_out},
+                                                       {"near_out_panels", &Q::near_out_panels},
+                                                       {"nq_far", &Q::nq_far},
+                                                       {"nq_mid", &Q::nq_mid}};
+  static const std::map<std::string, double Q::*> reals = {{"own_split", &Q::own_split},
+                                                           {"own_grading", &Q::own_grading},
+                                                           {"near_split", &Q::near_split},
+                                                           {"near_factor", &Q::near_factor},
+                                                           {"mid_factor", &Q::mid_factor}};
   std::stringstream ss(spec);
   std::string item;
   while (std::getline(ss, item, ',')) {
@@ -60,9 +65,12 @@ stokes::QuadratureOptions variant(const std::string& spec, const stokes::Quadrat
     if (eq == std::string::npos) throw std::invalid_argument("variant item without '=': " + item);
     const std::string k = item.substr(0, eq);
     const double v = std::stod(item.substr(eq + 1));
-    if (const auto i = ints.find(k); i != ints.end()) o.*(i->second) = static_cast<int>(v);
-    else if (const auto r = reals.find(k); r != reals.end()) o.*(r->second) = v;
-    else throw std::invalid_argument("unknown variant key: " + k);
+    if (const auto i = ints.find(k); i != ints.end())
+      o.*(i->second) = static_cast<int>(v);
+    else if (const auto r = reals.find(k); r != reals.end())
+      o.*(r->second) = v;
+    else
+      throw std::invalid_argument("unknown variant key: " + k);
   }
   return o;
 }
@@ -82,13 +90,15 @@ int run(int argc, char** argv) {
   const geometry::Mesh& mesh = *state.mesh;
   const Eigen::Matrix3Xd& x = state.x;
   const long n = mesh.num_local();
-  const capsule::Capsule cap(mesh, state.options.law, state.options.flow, control::dynamics_options(state.options));
+  const capsule::Capsule cap(mesh, state.options.law, state.options.flow,
+                             control::dynamics_options(state.options));
   const Eigen::Matrix3Xd f = cap.traction(x);
   std::vector<int> targets(n);
   for (int m = 0; m < n; ++m) targets[m] = m;
   const stokes::QuadratureOptions def = stokes::resolve_defaults(mesh, {});
   Eigen::Matrix3Xd ref;
-  stokes::BoundaryOperators(mesh, stokes::scale_orders(def, {3, 3, 3})).single_layer(x, f, targets, ref);
+  stokes::BoundaryOperators(mesh, stokes::scale_orders(def, {3, 3, 3}))
+      .single_layer(x, f, targets, ref);
   const double scale = ref.colwise().norm().maxCoeff();
   std::printf("%s: NE=%d NB=%d t=%.3f, %ld nodes, max|SL| %.3f\n", state.path.c_str(), mesh.ne(),
               mesh.nb(), state.t, n, scale);
@@ -104,19 +114,23 @@ int run(int argc, char** argv) {
     const stokes::BoundaryOperators op(mesh, variant(argv[a], def, mesh.nb()));
     Eigen::Matrix3Xd v;
     std::vector<double> ms;
+    stokes::OperatorStats s;
     for (int r = 0; r < 5; ++r) {
       const auto t0 = std::chrono::steady_clock::now();
-      op.single_layer(x, f, targets, v);
-      ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+      op.single_layer(x, f, targets, v, &s);
+      ms.push_back(
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     }
     std::nth_element(ms.begin(), ms.begin() + 2, ms.end());
     Eigen::Index w = 0;
     const double err = (v - ref).colwise().norm().maxCoeff(&w) / scale;
-    const int nb2 = mesh.nb() * mesh.nb(), e = static_cast<int>(w) / nb2, loc = static_cast<int>(w) % nb2;
-    const stokes::OperatorStats& s = op.last_stats();
-    std::printf("%-40s error %.2e at element %d node (%d,%d) x=(%+.2f %+.2f %+.2f); %.1f ms; points own/near/far %ld/%ld/%ld\n",
-                argv[a], err, e, loc % mesh.nb(), loc / mesh.nb(), x(0, w), x(1, w), x(2, w),
-                ms[2], s.own_pairs, s.near_pairs, s.far_pairs);
+    const int nb2 = mesh.nb() * mesh.nb(), e = static_cast<int>(w) / nb2,
+              loc = static_cast<int>(w) % nb2;
+    std::printf(
+        "%-40s error %.2e at element %d node (%d,%d) x=(%+.2f %+.2f %+.2f); %.1f ms; points "
+        "own/near/far %ld/%ld/%ld\n",
+        argv[a], err, e, loc % mesh.nb(), loc / mesh.nb(), x(0, w), x(1, w), x(2, w), ms[2],
+        s.own_pairs, s.near_pairs, s.far_pairs);
   }
   return 0;
 }

@@ -20,7 +20,7 @@
 //    Muldowney & Higdon 1995).
 //    Points and weights depend only on p0, i.e. on the node's (i, j) in the element, so these
 //    rules and the Lagrange weights (1-D bases and derivatives) at their points are
-//    precomputed once per mesh in this object, for the (i, j) up to the 8 symmetries of the
+//    precomputed once per mesh (own_rules.h), for the (i, j) up to the 8 symmetries of the
 //    square (the element's nodal data are permuted instead).
 //  * near elements (nearest point p* of E to x0 at distance h < near_factor * size(E), size =
 //    mean length of E's longer family of coordinate lines): p* by a projected Newton with an
@@ -40,17 +40,24 @@
 // interpolation across the lines (element data nb x 6nb times the 1-D bases: x, f and
 // d/d(across) x), then per point length-nb dot products along the line (x, f, d/d(along) x
 // and d/d(across) x), i.e. ~12 nb multiply-adds per point instead of ~9 nb^2. The single-layer
-// hot loops (stage 1, stage 2 + kernel in blocks of 4 points, far sums, point bases) are
-// compiled twice (x86-64-v3 AVX2/FMA and the default) and chosen at load time.
+// hot loops (stage 1, stage 2 + kernel in blocks of 4 points, far sums) are compiled for
+// x86-64-v4, x86-64-v3 and the baseline and chosen at load time.
 // Options: own_tolerance > 0 selects the own rule per canonical node (fewest points meeting
-// the tolerance against a high-order rule on the sphere and an ellipsoid; see the .cpp);
+// the tolerance against a high-order rule on the sphere and an ellipsoid; own_rules.h);
 // interpolate_jf interpolates J f from its nodal values (6 values per point instead of 12:
 // ~1.8x faster, but it changes the discrete operator by ~1e-5 relative at NB=10).
 //
-// Threading: every apply runs an OpenMP loop over targets (omp_get_max_threads threads; the
+// Threading: every call runs an OpenMP loop over targets (omp_get_max_threads threads; the
 // caller limits with omp_set_num_threads). Objects are immutable after construction and
 // may be used from several threads; each call allocates its own scratch once per thread.
 // Failure modes: wrong matrix sizes or target indices throw std::invalid_argument.
+//
+// Files, one job each: line_rule (construction of the special rules), own_rules (the own rules
+// per canonical node and their selection), line_sums (kernel sums over a special rule on one
+// element), far_field (the far tiers), kernel_point / kernel_mode (one point of the non-single-
+// layer sums; which sum), this file (the options and the operator: which rule for which
+// (target, element), the loop over targets); the nearest point of a near element is
+// geometry::nearest_point (geometry/element_search.h).
 #pragma once
 
 #include <Eigen/Dense>
@@ -58,6 +65,9 @@
 
 #include "geometry/mesh.h"
 #include "spectral/spectral.h"
+#include "stokes/far_field.h"
+#include "stokes/kernel_mode.h"
+#include "stokes/own_rules.h"
 
 namespace capflow::stokes {
 
@@ -68,10 +78,10 @@ struct QuadratureOptions {
   // Defaults measured on the unit sphere (NE=6/10/14, NB=12/16: 1e-8 in INT S.n dS and
   // INT T.n dS at interior and next-to-edge nodes) and against a high-order reference on
   // deformed shapes (tests/stokes/test_stokes_accuracy.cpp: <= 2.5e-8 relative at NE=6 NB=10).
-  int nq_far = 0;         // Gauss-Legendre per direction on far elements; 0 -> (3nb+19)/2
-  int nq_mid = 0;         // ... on elements at near_factor..mid_factor sizes; 0 -> 3 nb + 2
-  int n_edge = 0;         // own element: points along the edge coordinate; 0 -> 2 nb
-                          // (3 nb if some element is longer than 2:1, as the NE=14 rows)
+  int nq_far = 0;  // Gauss-Legendre per direction on far elements; 0 -> (3nb+19)/2
+  int nq_mid = 0;  // ... on elements at near_factor..mid_factor sizes; 0 -> 3 nb + 2
+  int n_edge = 0;  // own element: points along the edge coordinate; 0 -> 2 nb
+                   // (3 nb if some element is longer than 2:1, as the NE=14 rows)
   // Own element, along each ray: a graded inner panel [0, own_split] (u = own_grading
   // sinh(sigma), n_radial_inner Gauss points in sigma) and n_radial Gauss points on
   // [own_split, 1]; n_radial_inner = 0: plain Gauss in u on [0, 1] (the rule before
@@ -87,9 +97,9 @@ struct QuadratureOptions {
   // n_radial_near_out points each; 0 -> max(4, nb - 2)
   int n_radial_near_out = 0;
   int near_out_panels = 2;
-  double near_split = 0.3;    // ray fraction where the near radial rule switches (<= 0: none)
-  double near_factor = 0.2;   // near when dist(x0, E) < near_factor * size(E)
-  double mid_factor = 0.5;    // nq_mid when dist(x0, E) < mid_factor * size(E)
+  double near_split = 0.3;   // ray fraction where the near radial rule switches (<= 0: none)
+  double near_factor = 0.2;  // near when dist(x0, E) < near_factor * size(E)
+  double mid_factor = 0.5;   // nq_mid when dist(x0, E) < mid_factor * size(E)
   // > 0: per-node own rules (fewest points within this relative tolerance of a (3nb, 2nb+4)
   // rule; cached per mesh type). Off by default: at 3e-9 it removes 40-45 % of the own points
   // but misses the 1e-8 INT T.n identity at NE=10 NB=12 and takes seconds at NE=14.
@@ -110,7 +120,8 @@ struct OrderScales {
 };
 QuadratureOptions scale_orders(const QuadratureOptions& resolved, const OrderScales& k);
 
-// Counts of the last call (kernel evaluations = source points x targets).
+// Counts of one call (kernel evaluations = source points x targets), returned through the
+// optional `stats` argument of the operators.
 struct OperatorStats {
   long targets = 0;
   long far_pairs = 0;      // far Gauss points summed
@@ -126,22 +137,23 @@ class BoundaryOperators {
 
   const geometry::Mesh& mesh() const { return mesh_; }
   const QuadratureOptions& options() const { return opt_; }  // with the defaults resolved
-  const OperatorStats& last_stats() const { return stats_; }  // not thread-safe; diagnostics
 
   // SL[f] at every local node (3 x num_local; coincident nodes get the same value, computed
   // once per coincidence class).
-  Matrix3Xd single_layer(const Matrix3Xd& x, const Matrix3Xd& f) const;
+  Matrix3Xd single_layer(const Matrix3Xd& x, const Matrix3Xd& f,
+                         OperatorStats* stats = nullptr) const;
   // SL[f] at the listed local nodes only: out.col(k) = SL[f](x.col(targets[k])).
   void single_layer(const Matrix3Xd& x, const Matrix3Xd& f, const std::vector<int>& targets,
-                    Matrix3Xd& out) const;
+                    Matrix3Xd& out, OperatorStats* stats = nullptr) const;
   // SL[f] at arbitrary points (on, near or off the surface): every element is near or far.
-  Matrix3Xd single_layer_at(const Matrix3Xd& x, const Matrix3Xd& f,
-                            const Matrix3Xd& points) const;
+  Matrix3Xd single_layer_at(const Matrix3Xd& x, const Matrix3Xd& f, const Matrix3Xd& points,
+                            OperatorStats* stats = nullptr) const;
 
   // DL[u] at every local node / at the listed local nodes.
-  Matrix3Xd double_layer(const Matrix3Xd& x, const Matrix3Xd& u) const;
+  Matrix3Xd double_layer(const Matrix3Xd& x, const Matrix3Xd& u,
+                         OperatorStats* stats = nullptr) const;
   void double_layer(const Matrix3Xd& x, const Matrix3Xd& u, const std::vector<int>& targets,
-                    Matrix3Xd& out) const;
+                    Matrix3Xd& out, OperatorStats* stats = nullptr) const;
 
   // Identity checks with the exact normal n of the interpolated surface (no nodal density):
   //   INT S.n dS at the listed nodes (3 x targets), and
@@ -155,49 +167,26 @@ class BoundaryOperators {
                                       const Matrix3Xd& f, const Matrix3Xd& points, int nq);
 
   // Number of precomputed own-element rules and their total points (for memory reports).
-  int own_rule_count() const { return static_cast<int>(rules_.size()); }
-  long own_rule_points() const;
+  int own_rule_count() const { return own_.count(); }
+  long own_rule_points() const { return own_.points(); }
 
-  enum class Mode { Single, SingleNormal, Double, DoubleNormal };
-
-  // A special quadrature rule whose points lie on "lines" of constant s (lines [0, n0)) or
-  // constant t (lines [n0, nl)) in the canonical orientation of the square: the 1-D bases in
-  // the constant direction are shared by all points of a line (see the header comment).
-  struct Rule {
-    int n0 = 0;                // number of constant-s lines
-    std::vector<double> c;     // per line: the constant coordinate
-    std::vector<int> start;    // per line: first point (size nl + 1)
-    std::vector<double> o, w;  // per point: the coordinate along the line, weight
-    MatrixXd Lc, dLc;          // nb x nl: 1-D bases (and derivatives) at c
-    MatrixXd LoT, dLoT;        // np x nb: 1-D bases (and derivatives) at o, point-major
-    int nl() const { return static_cast<int>(c.size()); }
-    int np() const { return static_cast<int>(o.size()); }
-  };
+  using Mode = stokes::Mode;
 
  private:
   template <Mode M>
-  void apply(const Matrix3Xd& x, const Matrix3Xd* dens, const std::vector<int>* node_targets,
-             const Matrix3Xd* point_targets, MatrixXd& out) const;
+  OperatorStats apply(const Matrix3Xd& x, const Matrix3Xd* dens,
+                      const std::vector<int>* node_targets, const Matrix3Xd* point_targets,
+                      MatrixXd& out) const;
 
   const geometry::Mesh& mesh_;
   QuadratureOptions opt_;
-  std::vector<Rule> rules_;        // one per canonical node (i <= j <= (nb-1)/2)
-  std::vector<int> canon_rule_;    // (i + nb j) -> rule index
-  std::vector<int> canon_sym_;     // (i + nb j) -> symmetry bits: 1 flip s, 2 flip t, 4 swap
-  std::vector<std::vector<int>> canon_perm_;  // per symmetry (8): canonical (a + nb b) -> actual
   Eigen::VectorXd prod_w_;  // spectral::product_weights of the element nodes (rule bases)
-  // The far tiers' Gauss rules (0: nq_far, 1: nq_mid) and their interpolation / derivative
-  // matrices from the element nodes.
-  struct FarBasis {
-    Eigen::VectorXd w;
-    MatrixXd I, Id;  // nq x nb
-  };
-  FarBasis far_basis_[2];
+  OwnRules own_;
+  FarBasis far_basis_[2];  // the far tiers' Gauss rules: 0 nq_far, 1 nq_mid
   // The near rules' Gauss rules (along the edge, radial inner and outer part) and the scratch
   // sizes: lines of a near rule, lines of any rule, points of any line.
   spectral::Rule near_edge_, near_radial_, near_radial_out_;
   int max_near_lines_ = 0, max_lines_ = 0, max_line_ = 0;
-  mutable OperatorStats stats_;
 };
 
 }  // namespace capflow::stokes

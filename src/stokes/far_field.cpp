@@ -1,0 +1,138 @@
+#include "stokes/far_field.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "spectral/target_clones.h"
+#include "stokes/kernel_point.h"
+
+namespace capflow::stokes {
+
+using Eigen::Matrix3Xd;
+using Eigen::MatrixXd;
+using Eigen::Vector3d;
+using Eigen::VectorXd;
+
+// Far-field data of element e at the nq x nq Gauss-Legendre points (weights gw; I, Id: the
+// nq x nb interpolation and derivative matrices from the nodes) into columns
+// [e nq^2, (e + 1) nq^2) of F.d, rows 0-2 x, 3-5 density, 6-8 w (x_xi x x_eta), 9 w J.
+// esize (optional): the element's size, the mean length of its longer family of coordinate
+// lines.
+template <Mode M>
+void far_data(const geometry::Mesh& mesh, const Matrix3Xd& x, const Matrix3Xd* dens,
+              const VectorXd& gw, const MatrixXd& I, const MatrixXd& Id, int e, FarData& F,
+              double* esize) {
+  const int nb = mesh.nb(), nb2 = nb * nb, nq = static_cast<int>(gw.size()), nqe = nq * nq;
+  MatrixXd X(nb, nb);
+  MatrixXd xq[3], xsq[3], xtq[3], dq[3];
+  for (int k = 0; k < 3; ++k) {
+    for (int j = 0; j < nb; ++j)
+      for (int i = 0; i < nb; ++i) X(i, j) = x(k, e * nb2 + j * nb + i);
+    const MatrixXd XI = X * I.transpose();
+    xq[k].noalias() = I * XI;
+    xsq[k].noalias() = Id * XI;
+    xtq[k].noalias() = I * X * Id.transpose();
+    if (uses_density(M)) {
+      for (int j = 0; j < nb; ++j)
+        for (int i = 0; i < nb; ++i) X(i, j) = (*dens)(k, e * nb2 + j * nb + i);
+      dq[k].noalias() = I * X * I.transpose();
+    }
+  }
+  double ls = 0, lt = 0;
+  for (int b = 0; b < nq; ++b)
+    for (int a = 0; a < nq; ++a) {
+      const int q = e * nqe + b * nq + a;
+      const Vector3d xs(xsq[0](a, b), xsq[1](a, b), xsq[2](a, b));
+      const Vector3d xt(xtq[0](a, b), xtq[1](a, b), xtq[2](a, b));
+      const Vector3d c = xs.cross(xt);
+      const double w = gw[a] * gw[b];
+      const double wj = w * c.norm();
+      ls += w * xs.norm();
+      lt += w * xt.norm();
+      for (int k = 0; k < 3; ++k) {
+        F.d(k, q) = xq[k](a, b);
+        F.d(6 + k, q) = w * c[k];
+        F.d(3 + k, q) = uses_density(M) ? dq[k](a, b) : 0.0;
+      }
+      F.d(9, q) = wj;
+    }
+  // mean length of the longer family of coordinate lines (= 2 * mean |x_xi| or |x_eta|)
+  if (esize) *esize = 0.5 * std::max(ls, lt);
+}
+
+namespace {
+
+// Single-layer kernel sum over far points [q0, q1) (rows of F.d); cloned like single_line.
+CAPFLOW_TARGET_CLONES("arch=x86-64-v4", "arch=x86-64-v3", "default")
+void far_single(const double* px, const double* py, const double* pz, const double* fx,
+                const double* fy, const double* fz, const double* wj, int q0, int q1,
+                const double* x0, double* acc) {
+  const double X0 = x0[0], X1 = x0[1], X2 = x0[2];
+  double s0 = 0, s1 = 0, s2 = 0;
+#pragma omp simd reduction(+ : s0, s1, s2)
+  for (int q = q0; q < q1; ++q) {
+    const double rx = px[q] - X0, ry = py[q] - X1, rz = pz[q] - X2;
+    const double ir = 1.0 / std::sqrt(rx * rx + ry * ry + rz * rz);
+    const double rd = rx * fx[q] + ry * fy[q] + rz * fz[q];
+    const double a = wj[q] * ir, b = a * ir * ir * rd;
+    s0 += a * fx[q] + b * rx;
+    s1 += a * fy[q] + b * ry;
+    s2 += a * fz[q] + b * rz;
+  }
+  acc[0] += s0;
+  acc[1] += s1;
+  acc[2] += s2;
+}
+
+}  // namespace
+
+// Kernel sum over the far points [q0, q1) of F.
+template <Mode M>
+void far_sum(const FarData& F, int q0, int q1, const Vector3d& x0, const Vector3d& u0,
+             double* acc) {
+  if constexpr (M == Mode::Single) {
+    far_single(F.d.row(0).data(), F.d.row(1).data(), F.d.row(2).data(), F.d.row(3).data(),
+               F.d.row(4).data(), F.d.row(5).data(), F.d.row(9).data(), q0, q1, x0.data(), acc);
+  } else {
+    const double* __restrict px = F.d.row(0).data();
+    const double* __restrict py = F.d.row(1).data();
+    const double* __restrict pz = F.d.row(2).data();
+    const double* __restrict fx = F.d.row(3).data();
+    const double* __restrict fy = F.d.row(4).data();
+    const double* __restrict fz = F.d.row(5).data();
+    const double* __restrict nx = F.d.row(6).data();
+    const double* __restrict ny = F.d.row(7).data();
+    const double* __restrict nz = F.d.row(8).data();
+    const double X0 = x0[0], X1 = x0[1], X2 = x0[2];
+    const double U0 = u0[0], U1 = u0[1], U2 = u0[2];
+    double s0 = 0, s1 = 0, s2 = 0, s3 = 0, s4 = 0, s5 = 0, s6 = 0, s7 = 0, s8 = 0;
+#pragma omp simd reduction(+ : s0, s1, s2, s3, s4, s5, s6, s7, s8)
+    for (int q = q0; q < q1; ++q)
+      kernel_point<M>(px[q] - X0, py[q] - X1, pz[q] - X2, nx[q], ny[q], nz[q], fx[q] - U0,
+                      fy[q] - U1, fz[q] - U2, s0, s1, s2, s3, s4, s5, s6, s7, s8);
+    add_sums<M>(acc, s0, s1, s2, s3, s4, s5, s6, s7, s8);
+  }
+}
+
+template void far_data<Mode::Single>(const geometry::Mesh&, const Matrix3Xd&, const Matrix3Xd*,
+                                     const VectorXd&, const MatrixXd&, const MatrixXd&, int,
+                                     FarData&, double*);
+template void far_sum<Mode::Single>(const FarData&, int, int, const Vector3d&, const Vector3d&,
+                                    double*);
+template void far_data<Mode::SingleNormal>(const geometry::Mesh&, const Matrix3Xd&,
+                                           const Matrix3Xd*, const VectorXd&, const MatrixXd&,
+                                           const MatrixXd&, int, FarData&, double*);
+template void far_sum<Mode::SingleNormal>(const FarData&, int, int, const Vector3d&,
+                                          const Vector3d&, double*);
+template void far_data<Mode::Double>(const geometry::Mesh&, const Matrix3Xd&, const Matrix3Xd*,
+                                     const VectorXd&, const MatrixXd&, const MatrixXd&, int,
+                                     FarData&, double*);
+template void far_sum<Mode::Double>(const FarData&, int, int, const Vector3d&, const Vector3d&,
+                                    double*);
+template void far_data<Mode::DoubleNormal>(const geometry::Mesh&, const Matrix3Xd&,
+                                           const Matrix3Xd*, const VectorXd&, const MatrixXd&,
+                                           const MatrixXd&, int, FarData&, double*);
+template void far_sum<Mode::DoubleNormal>(const FarData&, int, int, const Vector3d&,
+                                          const Vector3d&, double*);
+
+}  // namespace capflow::stokes

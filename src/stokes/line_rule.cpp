@@ -1,0 +1,128 @@
+#include "stokes/line_rule.h"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+namespace capflow::stokes {
+
+using Eigen::VectorXd;
+
+namespace {
+
+void radial_nodes(double h, const spectral::Rule& gr, const RadialOpt& ro,
+                  std::vector<std::pair<double, double>>& rad) {
+  rad.clear();
+  if (h <= 0.0) {
+    for (int b = 0; b < gr.x.size(); ++b) rad.emplace_back(0.5 * (gr.x[b] + 1.0), 0.5 * gr.w[b]);
+    return;
+  }
+  const spectral::Rule& gi = ro.gi ? *ro.gi : gr;
+  const double u1 = ro.split > 0.0 ? std::min(1.0, ro.split) : 1.0;
+  const double sig_max = std::asinh(u1 / h);
+  constexpr double kPanel = 6.0;
+  const int panels = std::max(1, static_cast<int>(std::ceil(sig_max / kPanel)));
+  const double dsig = sig_max / panels;
+  for (int pan = 0; pan < panels; ++pan)
+    for (int b = 0; b < gi.x.size(); ++b) {
+      const double sig = dsig * (pan + 0.5 * (gi.x[b] + 1.0));
+      rad.emplace_back(h * std::sinh(sig), 0.5 * dsig * gi.w[b] * h * std::cosh(sig));
+    }
+  if (u1 < 1.0) {
+    const spectral::Rule& go = ro.go ? *ro.go : gr;
+    const int np = std::max(1, ro.out_panels);
+    double len = (1 - u1) / ((1 << np) - 1), a = u1;  // lengths len, 2 len, 4 len, ...
+    for (int q = 0; q < np; ++q, a += len, len *= 2)
+      for (int b = 0; b < go.x.size(); ++b)
+        rad.emplace_back(a + 0.5 * len * (go.x[b] + 1.0), 0.5 * len * go.w[b]);
+  }
+}
+
+// Lagrange basis l_j(t) and l_j'(t) through the element's Gauss-Lobatto nodes.
+inline void basis(const geometry::Mesh& mesh, double t, double* l, double* dl) {
+  spectral::lagrange_basis(mesh.nodes(), mesh.bary(), t, l, dl);
+}
+
+}  // namespace
+
+void polar_rule(double s0, double t0, const double* hu, const spectral::Rule& ge,
+                const spectral::Rule& gr, LineRule& R, const RadialOpt& ro) {
+  R.c.clear();
+  R.start.clear();
+  R.o.clear();
+  R.w.clear();
+  R.n0 = -1;
+  struct Edge {
+    double fs, ft, d;
+    int axis;       // 0: edge runs along s, 1: along t
+    double lo, hi;  // lengths from the foot towards -, + along the edge
+  };
+  const Edge edges[4] = {
+      {-1.0, t0, s0 + 1.0, 1, t0 + 1.0, 1.0 - t0},
+      {1.0, t0, 1.0 - s0, 1, t0 + 1.0, 1.0 - t0},
+      {s0, -1.0, t0 + 1.0, 0, s0 + 1.0, 1.0 - s0},
+      {s0, 1.0, 1.0 - t0, 0, s0 + 1.0, 1.0 - s0},
+  };
+  constexpr double kTiny = 1e-14;
+  const int nge = static_cast<int>(ge.x.size());
+  std::vector<std::pair<double, double>> rad;
+  for (int ei = 0; ei < 4; ++ei) {
+    if (ei == 2) R.n0 = static_cast<int>(R.c.size());
+    const Edge& E = edges[ei];
+    if (E.d < kTiny) continue;
+    const double h = hu[ei];
+    radial_nodes(h, gr, ro, rad);
+    // coordinate along the edge of the foot and of p0 (the same), and across
+    const double p_along = E.axis == 1 ? t0 : s0;
+    const double p_across = E.axis == 1 ? s0 : t0;
+    const double f_across = E.axis == 1 ? E.fs : E.ft;
+    // edge points (along-edge offset from the foot, times the Jacobian weight), per side
+    double off[2][kMaxEdge], wedge[2][kMaxEdge];
+    int cnt[2] = {0, 0};
+    for (int k = 0; k < 2; ++k) {
+      const double L = k == 0 ? E.lo : E.hi;
+      if (L < kTiny) continue;
+      const double tau_max = std::asinh(L / E.d);
+      const double dir = k == 0 ? -1.0 : 1.0;
+      for (int a = 0; a < nge; ++a) {
+        const double tau = 0.5 * tau_max * (ge.x[a] + 1.0);
+        const double wt = 0.5 * tau_max * ge.w[a];
+        off[k][a] = dir * E.d * std::sinh(tau);
+        wedge[k][a] = wt * E.d * std::cosh(tau) * E.d;
+      }
+      cnt[k] = nge;
+    }
+    for (const auto& uw : rad) {
+      const double u = uw.first, wu = uw.second;
+      R.c.push_back(p_across + u * (f_across - p_across));
+      R.start.push_back(static_cast<int>(R.o.size()));
+      for (int k = 0; k < 2; ++k)
+        for (int a = 0; a < cnt[k]; ++a) {
+          R.o.push_back(p_along + u * off[k][a]);
+          R.w.push_back(wedge[k][a] * u * wu);
+        }
+    }
+  }
+  R.start.push_back(static_cast<int>(R.o.size()));
+}
+
+void fill_bases(const geometry::Mesh& mesh, const VectorXd& c, LineRule& R, bool points) {
+  const int nb = mesh.nb(), nl = R.nl(), np = R.np();
+  if (R.Lc.rows() != nb || R.Lc.cols() < nl) {
+    R.Lc.resize(nb, nl);
+    R.dLc.resize(nb, nl);
+  }
+  for (int l = 0; l < nl; ++l) basis(mesh, R.c[l], R.Lc.col(l).data(), R.dLc.col(l).data());
+  if (!points) return;
+  // leading dimension = rows >= np + 4 (blocks of 4 points)
+  if (R.LoT.rows() < np + 4 || R.LoT.cols() != nb) {
+    R.LoT.resize(np + 4, nb);
+    R.dLoT.resize(np + 4, nb);
+    R.LoT.bottomRows(4).setZero();
+    R.dLoT.bottomRows(4).setZero();
+  }
+  spectral::lagrange_bases(mesh.nodes(), c, R.o.data(), np, R.LoT.data(), R.dLoT.data(),
+                           R.LoT.rows());
+}
+
+}  // namespace capflow::stokes

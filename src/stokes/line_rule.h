@@ -1,0 +1,66 @@
+// capflow/stokes/line_rule: construction of the special (own and near element) quadrature rules
+// as "lines" (boundary_integral.h explains the rules and why they are built as lines): the
+// perpendicular/sinh polar rule around a point of the square, its radial nodes, and the
+// Lagrange bases at its line coordinates and points.
+#pragma once
+
+#include <Eigen/Dense>
+#include <vector>
+
+#include "geometry/mesh.h"
+#include "spectral/spectral.h"
+
+namespace capflow::stokes {
+
+constexpr int kMaxNb = 64;
+constexpr int kMaxEdge = 256;  // Gauss points along an edge
+
+// A special quadrature rule whose points lie on "lines" of constant s (lines [0, n0)) or
+// constant t (lines [n0, nl)) in the canonical orientation of the square: the 1-D bases in
+// the constant direction are shared by all points of a line.
+struct LineRule {
+  int n0 = 0;                 // number of constant-s lines
+  std::vector<double> c;      // per line: the constant coordinate
+  std::vector<int> start;     // per line: first point (size nl + 1)
+  std::vector<double> o, w;   // per point: the coordinate along the line, weight
+  Eigen::MatrixXd Lc, dLc;    // nb x nl: 1-D bases (and derivatives) at c
+  Eigen::MatrixXd LoT, dLoT;  // np x nb: 1-D bases (and derivatives) at o, point-major
+  int nl() const { return static_cast<int>(c.size()); }
+  int np() const { return static_cast<int>(o.size()); }
+};
+
+// Radial rule of a polar rule's rays (the radial nodes (u, weight) on [0, 1] for one edge):
+// h <= 0: Gauss-Legendre gr in u. h > 0 (scale h in u): the inner panel [0, u1], u1 = min(1, split)
+// (split <= 0: u1 = 1), mapped by u = h sinh(sigma) with gi in sigma (further split into panels of
+// length
+// <= 6 in sigma), and the outer part [u1, 1] with go in u on each of out_panels panels whose
+// lengths grow by 2 away from p0 (the sinh map alone under-resolves the polynomial part of the
+// integrand far from p*). Near elements: h = the near-singular scale; own elements: a fixed
+// grading scale (the ray integrand of a curved, non-uniformly stretched element has a complex
+// singularity near u = 0 at ~ |J v|^2 / |J v . x_vv|, which plain Gauss in u resolves badly).
+struct RadialOpt {
+  const spectral::Rule* gi = nullptr;
+  const spectral::Rule* go = nullptr;
+  double split = 0.0;
+  int out_panels = 1;
+};
+
+// Perpendicular/sinh polar rule around p0 = (s0, t0) in [-1,1]^2 (boundary_integral.h), built as
+// lines: along every ray p0 -> edge point the coordinate perpendicular to that edge depends
+// only on the ray fraction u, so for a fixed u the points of the two triangles on one edge
+// form a line of constant s (edges s = +-1) or constant t (edges t = +-1).
+// hu[edge] <= 0: plain Gauss in u (own element); hu > 0: radial sinh map u = hu sinh(sigma)
+// (near elements), sigma in [0, asinh(1/hu)] split into panels of length <= 6.
+// Edges in the order s = -1, s = +1 (constant-s lines), t = -1, t = +1 (constant-t lines).
+void polar_rule(double s0, double t0, const double* hu, const spectral::Rule& ge,
+                const spectral::Rule& gr, LineRule& R, const RadialOpt& ro = RadialOpt());
+
+// Bases of a line rule: Lc, dLc at the line coordinates and, if `points`, LoT, dLoT at the
+// points (spectral::lagrange_bases, product weights c). The matrices are resized only when they
+// are too small or of another nb (scratch reused across calls and operators). Without `points`
+// the single layer evaluates the point bases line by line while it sums (line_sum: they stay
+// in L1 instead of a rule-sized array).
+void fill_bases(const geometry::Mesh& mesh, const Eigen::VectorXd& c, LineRule& R,
+                bool points = true);
+
+}  // namespace capflow::stokes

@@ -1,0 +1,59 @@
+// capflow/stokes/line_sums: the kernel sums over the points of a special quadrature rule
+// (line_rule.h) on one element: the element's nodal data in the rule's orientation, stage 1 (the
+// 1-D interpolation across the lines) and stage 2 (per point, along the line) with the kernel.
+// The single layer's hot loops (stage 1, stage 2 + kernel in register blocks of 4 points) are
+// compiled for x86-64-v4, x86-64-v3 and the baseline and chosen at load time
+// (spectral/target_clones.h); the other modes use plain loops (kernel_point.h).
+#pragma once
+
+#include <Eigen/Dense>
+#include <vector>
+
+#include "stokes/kernel_mode.h"
+#include "stokes/line_rule.h"
+
+namespace capflow::stokes {
+
+using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+// Per-thread buffers of the kernel sums (kept across calls, see BoundaryOperators::apply).
+struct Scratch {
+  RowMat D0, D1;  // element data, nb x (K nb): D0(i, k nb + j) = D1(j, k nb + i) = X_k(i, j)
+  RowMat A, B;    // stage 1: values / derivative across, per line
+  std::vector<double> v;   // stage 2 per line: 12 arrays of the line's length
+  std::vector<double> lb;  // per-line point bases of a rule without stored ones (2 ld nb)
+  LineRule near;           // the near rule of the (target, element) being summed
+};
+
+// Where line_sum finds the point bases: stored in the rule (nodes == nullptr), or computed
+// line by line from the element's nodes and product weights (single layer only).
+struct PointBases {
+  const Eigen::VectorXd* nodes = nullptr;
+  const Eigen::VectorXd* c = nullptr;
+};
+
+// Element data (x and, if K == 6, the density) in the orientation given by perm (canonical
+// (a + nb b) -> local node within the element).
+void load_element(int nb, int K, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd* dens, int base,
+                  const int* perm, Scratch& sc);
+
+// Sizes a scratch's line buffers A, B (size_lines) and element data D0, D1 (size_scratch, padding
+// zeroed) for nb nodes per direction and rules of up to `lines` lines, with padded columns (pad8).
+// Buffers that are big enough are kept (size_scratch keeps loaded element data of the same nb).
+void size_lines(Scratch& sc, int nb, int lines);
+void size_scratch(Scratch& sc, int nb, int lines);
+
+// Sum the kernel over the points of one line rule; the element data are in sc.D0/D1 (in the
+// rule's orientation); sign: orientation of the rule's (s, t) relative to the element's.
+// Stage 1: for every line, the 1-D interpolation across the lines (dense products
+// Lc^T D: lines x (K nb)); stage 2: per point, length-nb dot products along the line.
+template <Mode M>
+void line_sum(int nb, int K, const LineRule& R, double sign, const Eigen::Vector3d& x0,
+              const Eigen::Vector3d& u0, Scratch& sc, double* acc, const PointBases& pb = {});
+
+// Single layer with the product g = J f interpolated from its nodal values (sc.D0/D1 hold x
+// and g): 6 values per point instead of 12 (no tangents, no derivative bases).
+void line_sum_jf(int nb, const LineRule& R, double sign, const Eigen::Vector3d& x0, Scratch& sc,
+                 double* acc);
+
+}  // namespace capflow::stokes
