@@ -15,8 +15,8 @@ constexpr int kMaxN = 256;
 
 void check_n(int n, int lo, const char* what) {
   if (n < lo || n > kMaxN)
-    throw std::invalid_argument(std::string(what) + ": n must be in [" + std::to_string(lo) +
-                                ", " + std::to_string(kMaxN) + "], got " + std::to_string(n));
+    throw std::invalid_argument(std::string(what) + ": n must be in [" + std::to_string(lo) + ", " +
+                                std::to_string(kMaxN) + "], got " + std::to_string(n));
 }
 }  // namespace
 
@@ -117,8 +117,7 @@ VectorXd barycentric_weights(const VectorXd& nodes) {
   return w / w.cwiseAbs().maxCoeff();
 }
 
-void lagrange_basis(const VectorXd& nodes, const VectorXd& bw, double t, double* l,
-                    double* dl) {
+void lagrange_basis(const VectorXd& nodes, const VectorXd& bw, double t, double* l, double* dl) {
   const int n = static_cast<int>(nodes.size());
   check_n(n, 1, "lagrange_basis");
   for (int j = 0; j < n; ++j) {
@@ -186,9 +185,9 @@ VectorXd product_weights(const VectorXd& nodes) {
 
 // Compiled twice (x86-64-v3 with AVX2/FMA and the default), chosen at load time: the stokes
 // special quadrature rules evaluate their bases with it on every call.
-CAPFLOW_TARGET_CLONES("arch=x86-64-v3", "default") void lagrange_bases(
-    const VectorXd& nodes, const VectorXd& c, const double* t, int np, double* L, double* dL,
-    long ld) {
+CAPFLOW_TARGET_CLONES("arch=x86-64-v3", "default")
+void lagrange_bases(const VectorXd& nodes, const VectorXd& c, const double* t, int np, double* L,
+                    double* dL, long ld) {
   const int n = static_cast<int>(nodes.size());
   if (c.size() != n || ld < np) throw std::invalid_argument("lagrange_bases: bad sizes");
   thread_local std::vector<double> scratch;
@@ -272,6 +271,23 @@ MatrixXd differentiation_matrix(const VectorXd& nodes) {
     d(i, i) = diag;
   }
   return d;
+}
+
+MatrixXd chebyshev_matrix(const VectorXd& nodes) {
+  const int n = static_cast<int>(nodes.size());
+  const VectorXd bw = barycentric_weights(nodes);
+  // c_k = (2 - delta_k0) / n sum_q l_j(y_q) T_k(y_q), y_q = cos((q + 1/2) pi / n)
+  MatrixXd c = MatrixXd::Zero(n, n);
+  std::vector<double> l(n);
+  for (int q = 0; q < n; ++q) {
+    const double th = (q + 0.5) * kPi / n;
+    lagrange_basis(nodes, bw, std::cos(th), l.data(), nullptr);
+    for (int k = 0; k < n; ++k) {
+      const double tk = std::cos(k * th) * (k == 0 ? 1.0 : 2.0) / n;
+      for (int j = 0; j < n; ++j) c(k, j) += l[j] * tk;
+    }
+  }
+  return c;
 }
 
 double tensor_evaluate(const VectorXd& nodes, const MatrixXd& v, double s, double t) {

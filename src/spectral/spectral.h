@@ -58,6 +58,12 @@ MatrixXd derivative_matrix(const VectorXd& nodes, const VectorXd& targets);
 // D(i, j) = l_j'(x_i): nodal derivative = D * nodal_values (rows sum to zero exactly).
 MatrixXd differentiation_matrix(const VectorXd& nodes);
 
+// Chebyshev coefficients of the interpolant through the nodes: with C = chebyshev_matrix(nodes)
+// (n x n), p(t) = sum_j v_j l_j(t) = sum_k c_k T_k(t) for c = C v (row k, column j holds the k-th
+// Chebyshev coefficient of l_j). Built by n-point Gauss-Chebyshev quadrature, exact for these
+// polynomials (degree <= 2n - 2), no matrix inversion.
+MatrixXd chebyshev_matrix(const VectorXd& nodes);
+
 // Tensor-product value at (s, t) of v(i, j) given at (nodes_i, nodes_j):
 //   p(s, t) = sum_ij v(i, j) l_i(s) l_j(t).
 double tensor_evaluate(const VectorXd& nodes, const MatrixXd& v, double s, double t);

@@ -58,6 +58,7 @@ BoundaryOperators::BoundaryOperators(const geometry::Mesh& mesh, QuadratureOptio
     : mesh_(mesh),
       opt_(resolve_defaults(mesh, options)),
       prod_w_(spectral::product_weights(mesh.nodes())),
+      cheb_(spectral::chebyshev_matrix(mesh.nodes())),
       own_(mesh, opt_, prod_w_) {
   const VectorXd& xi = mesh.nodes();
   for (int tier = 0; tier < 2; ++tier) {
@@ -123,6 +124,11 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
   // buffers below made glibc grow and trim its heap on every call, ~200 page faults a call
   // (docs/performance.md, "Heap churn").
   thread_local FarData far_tls[2];
+  // single layer: the elements' data in Chebyshev coefficients along the rule lines
+  const bool cheb = M == Mode::Single && !jf;
+  thread_local std::vector<ChebElement> cheb_tls;
+  if (cheb && static_cast<int>(cheb_tls.size()) < ne) cheb_tls.resize(ne);
+  std::vector<ChebElement>& ce = cheb_tls;
   FarData* const far = far_tls;  // the calling thread's buffers, shared with the team below
   for (int tier = 0; tier < 2; ++tier) {
     far[tier].nq = static_cast<int>(far_basis_[tier].w.size());
@@ -134,6 +140,7 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
     const int tier = task / ne, e = task % ne;
     const FarBasis& fb = far_basis_[tier];
     far_data<M>(mesh, x, dens, fb.w, fb.I, fb.Id, e, far[tier], tier == 0 ? &esize[e] : nullptr);
+    if (cheb && tier == 1) chebyshev_element(nb, K, cheb_, x, dens, e * nb2, ce[e]);
   }
   for (int e = 0; e < ne; ++e) {
     Vector3d cen = x.middleCols(e * nb2, nb2).rowwise().mean();
@@ -171,7 +178,10 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
           const LineRule& r = own_.rule(loc);
           const int sym = own_.symmetry(loc);
           const double sign = OwnRules::sign(sym);
-          load_element(nb, K, x, sdens, e * nb2, own_.permutation(sym), sc);
+          if (cheb)
+            load_chebyshev(nb, K, ce[e], sym, sc);
+          else
+            load_element(nb, K, x, sdens, e * nb2, own_.permutation(sym), sc);
           if (jf)
             line_sum_jf(nb, r, sign, x0, sc, acc);
           else
@@ -212,14 +222,15 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
                              opt_.near_out_panels};
           polar_rule(np.s, np.t, hu, near_edge_, near_radial_, sc.near, ro);
           // the single layer evaluates the near rule's point bases line by line
-          const bool per_line = M == Mode::Single && !jf;
-          fill_bases(mesh, prod_w_, sc.near, !per_line);
-          load_element(nb, K, x, sdens, e * nb2, nullptr, sc);
+          fill_bases(mesh, prod_w_, sc.near, !cheb);  // no point bases for the single layer
+          if (cheb)
+            load_chebyshev(nb, K, ce[e], 0, sc);
+          else
+            load_element(nb, K, x, sdens, e * nb2, nullptr, sc);
           if (jf)
             line_sum_jf(nb, sc.near, 1.0, x0, sc, acc);
           else
-            line_sum<M>(nb, K, sc.near, 1.0, x0, u0, sc, acc,
-                        per_line ? PointBases{&mesh.nodes(), &prod_w_} : PointBases{});
+            line_sum<M>(nb, K, sc.near, 1.0, x0, u0, sc, acc);
           near_pairs += sc.near.np();
         } else {
           const FarData& fd = far[tier];

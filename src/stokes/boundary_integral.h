@@ -181,6 +181,7 @@ class BoundaryOperators {
   const geometry::Mesh& mesh_;
   QuadratureOptions opt_;
   Eigen::VectorXd prod_w_;  // spectral::product_weights of the element nodes (rule bases)
+  Eigen::MatrixXd cheb_;    // spectral::chebyshev_matrix of the element nodes
   OwnRules own_;
   FarBasis far_basis_[2];  // the far tiers' Gauss rules: 0 nq_far, 1 nq_mid
   // The near rules' Gauss rules (along the edge, radial inner and outer part) and the scratch

@@ -11,8 +11,17 @@
 namespace capflow::stokes {
 
 using Eigen::Matrix3Xd;
+using Eigen::MatrixXd;
 using Eigen::Vector3d;
 using Eigen::VectorXd;
+
+namespace {
+// Columns of the stage-1 operands, rounded up to whole blocks of 8 (two v4d): stage1 reads and
+// writes whole blocks, so D, A and B carry up to 7 padding columns (their values are unused).
+constexpr int pad8(int n) {
+  return (n + 7) & ~7;
+}
+}  // namespace
 
 // Element data (x and, if K == 6, the density) in the orientation given by perm (canonical
 // (a + nb b) -> local node within the element).
@@ -33,51 +42,105 @@ void load_element(int nb, int K, const Matrix3Xd& x, const Matrix3Xd* dens, int 
     }
 }
 
+void chebyshev_element(int nb, int K, const MatrixXd& C, const Matrix3Xd& x, const Matrix3Xd* dens,
+                       int base, ChebElement& ce) {
+  const int kp = pad8(6 * nb);
+  if (ce.cs.rows() != nb || ce.cs.cols() != kp) {
+    ce.cs.setZero(nb, kp);
+    ce.ct.setZero(nb, kp);
+  }
+  for (int c = 0; c < K; ++c) {
+    const Matrix3Xd& v = c < 3 ? x : *dens;
+    const int r = c % 3;
+    for (int i = 0; i < nb; ++i)  // row i of cs: the coefficients in t at s_i; of ct: in s at t_i
+      for (int k = 0; k < nb; ++k) {
+        double st = 0, ss = 0;
+        for (int j = 0; j < nb; ++j) {
+          st += C(k, j) * v(r, base + i + nb * j);
+          ss += C(k, j) * v(r, base + j + nb * i);
+        }
+        ce.cs(i, c * nb + k) = st;
+        ce.ct(i, c * nb + k) = ss;
+      }
+  }
+}
+
+void load_chebyshev(int nb, int K, const ChebElement& ce, int sym, Scratch& sc) {
+  const bool fs = sym & 1, ft = sym & 2, sw = sym & 4;
+  // D0 row a (canonical s-node) holds the coefficients along canonical t, D1 row b those along
+  // canonical s. Without a swap: canonical s, t = actual s, t (flipped as fs, ft); with one:
+  // canonical s = actual t, canonical t = actual s. A flipped along coordinate turns c_k into
+  // (-1)^k c_k (T_k(-t) = (-1)^k T_k(t); the nodes are symmetric).
+  const RowMat& r0 = sw ? ce.ct : ce.cs;  // rows by the actual node of canonical s
+  const RowMat& r1 = sw ? ce.cs : ce.ct;
+  const bool flip_row0 = sw ? ft : fs, flip_along0 = sw ? fs : ft;
+  const bool flip_row1 = sw ? fs : ft, flip_along1 = sw ? ft : fs;
+  for (int a = 0; a < nb; ++a) {
+    const double* s0 = r0.row(flip_row0 ? nb - 1 - a : a).data();
+    const double* s1 = r1.row(flip_row1 ? nb - 1 - a : a).data();
+    double* d0 = sc.D0.row(a).data();
+    double* d1 = sc.D1.row(a).data();
+    for (int c = 0; c < K; ++c)
+      for (int k = 0; k < nb; ++k) {
+        const int q = c * nb + k;
+        d0[q] = (flip_along0 && (k & 1)) ? -s0[q] : s0[q];
+        d1[q] = (flip_along1 && (k & 1)) ? -s1[q] : s1[q];
+      }
+  }
+}
+
 namespace {
 
 // Single layer, one line of a line rule: stage 2 (values along the line from the stage-1 rows
-// A (x, f: 6 nb) and B (d/d(across) x: 3 nb)) and the kernel sum, added to out[0..2].
-// L, dL: bases at the line's points (column j at L + j ld); buf: 12 (m + 3) doubles.
-// Compiled three times (x86-64-v4 with AVX-512, x86-64-v3 with AVX2/FMA, and the default), chosen
-// at load time.
+// A (x, f: 6 nb Chebyshev coefficients in the along coordinate) and B (d/d(across) x: 3 nb))
+// and the kernel sum, added to out[0..2]. o, w: the line's points (along coordinate) and
+// weights. Blocks of 4 points with the 12 interpolated values in registers (GCC vector
+// extension): T_k by T_{k+1} = 2 o T_k - T_{k-1}, T_k' = k U_{k-1} with U likewise. Compiled
+// three times (x86-64-v4 with AVX-512, x86-64-v3 with AVX2/FMA, and the default), chosen at
+// load time.
 typedef double v4d __attribute__((vector_size(32)));
 
 CAPFLOW_TARGET_CLONES("arch=x86-64-v4", "arch=x86-64-v3", "default")
-void single_line(int nb, int m, const double* A, const double* B, const double* L, const double* dL,
-                 long ld, const double* w, double sg, const double* x0, double* buf, double* out) {
-  // Blocks of 4 points with the 12 interpolated values in registers (GCC vector extension);
-  // the bases of the last block may run past the line (ld >= np + 4, see fill_bases); those
-  // points get weight 0.
-  (void)buf;
-  (void)sg;  // |n| does not depend on the orientation
-  const v4d x00 = {x0[0], x0[0], x0[0], x0[0]}, x01 = {x0[1], x0[1], x0[1], x0[1]},
-            x02 = {x0[2], x0[2], x0[2], x0[2]};
-  v4d s0 = {0, 0, 0, 0}, s1 = s0, s2 = s0;
+void single_line(int nb, int m, const double* A, const double* B, const double* o, const double* w,
+                 const double* x0, double* out) {
+  double kx[3 * kMaxNb];  // k c_k of the position's coefficients (the derivative's U weights)
+  for (int c = 0; c < 3; ++c)
+    for (int k = 0; k < nb; ++k) kx[c * nb + k] = k * A[c * nb + k];
+  const v4d zero = {0, 0, 0, 0}, one = {1, 1, 1, 1};
+  const v4d x00 = x0[0] * one, x01 = x0[1] * one, x02 = x0[2] * one;
+  v4d s0 = zero, s1 = zero, s2 = zero;
   for (int p0 = 0; p0 < m; p0 += 4) {
-    v4d X0 = {0, 0, 0, 0}, X1 = X0, X2 = X0, F0 = X0, F1 = X0, F2 = X0;
-    v4d A0 = X0, A1 = X0, A2 = X0, O0 = X0, O1 = X0, O2 = X0;
-    for (int j = 0; j < nb; ++j) {
-      v4d lo, dlo;
-      std::memcpy(&lo, L + j * ld + p0, sizeof lo);
-      std::memcpy(&dlo, dL + j * ld + p0, sizeof dlo);
-      X0 += A[j] * lo;
-      X1 += A[nb + j] * lo;
-      X2 += A[2 * nb + j] * lo;
-      F0 += A[3 * nb + j] * lo;
-      F1 += A[4 * nb + j] * lo;
-      F2 += A[5 * nb + j] * lo;
-      A0 += B[j] * lo;
-      A1 += B[nb + j] * lo;
-      A2 += B[2 * nb + j] * lo;
-      O0 += A[j] * dlo;
-      O1 += A[nb + j] * dlo;
-      O2 += A[2 * nb + j] * dlo;
-    }
-    v4d wq, pad;
+    v4d ov, wq, pad;
     for (int q = 0; q < 4; ++q) {
       const bool in = p0 + q < m;
+      ov[q] = in ? o[p0 + q] : 0.0;
       wq[q] = in ? w[p0 + q] : 0.0;
       pad[q] = in ? 0.0 : 1.0;
+    }
+    const v4d o2 = ov + ov;
+    v4d X0 = A[0] * one, X1 = A[nb] * one, X2 = A[2 * nb] * one;
+    v4d F0 = A[3 * nb] * one, F1 = A[4 * nb] * one, F2 = A[5 * nb] * one;
+    v4d A0 = B[0] * one, A1 = B[nb] * one, A2 = B[2 * nb] * one;
+    v4d O0 = zero, O1 = zero, O2 = zero;
+    v4d Tm = one, T = ov, Um = zero, U = one;  // T_{k-1}, T_k, U_{k-2}, U_{k-1} at k = 1
+    for (int k = 1; k < nb; ++k) {
+      X0 += A[k] * T;
+      X1 += A[nb + k] * T;
+      X2 += A[2 * nb + k] * T;
+      F0 += A[3 * nb + k] * T;
+      F1 += A[4 * nb + k] * T;
+      F2 += A[5 * nb + k] * T;
+      A0 += B[k] * T;
+      A1 += B[nb + k] * T;
+      A2 += B[2 * nb + k] * T;
+      O0 += kx[k] * U;
+      O1 += kx[nb + k] * U;
+      O2 += kx[2 * nb + k] * U;
+      const v4d Tn = o2 * T - Tm, Un = o2 * U - Um;
+      Tm = T;
+      T = Tn;
+      Um = U;
+      U = Un;
     }
     const v4d nx = A1 * O2 - A2 * O1;
     const v4d ny = A2 * O0 - A0 * O2;
@@ -99,12 +162,6 @@ void single_line(int nb, int m, const double* A, const double* B, const double* 
   out[0] += (s0[0] + s0[1]) + (s0[2] + s0[3]);
   out[1] += (s1[0] + s1[1]) + (s1[2] + s1[3]);
   out[2] += (s2[0] + s2[1]) + (s2[2] + s2[3]);
-}
-
-// Columns of the stage-1 operands, rounded up to whole blocks of 8 (two v4d): stage1 reads and
-// writes whole blocks, so D, A and B carry up to 7 padding columns (their values are unused).
-constexpr int pad8(int n) {
-  return (n + 7) & ~7;
 }
 
 }  // namespace
@@ -206,7 +263,7 @@ void stage1(int nb, int nl, int Kn, int n3, const double* Lc, const double* dLc,
 // Lc^T D: lines x (K nb)); stage 2: per point, length-nb dot products along the line.
 template <Mode M>
 void line_sum(int nb, int K, const LineRule& R, double sign, const Vector3d& x0, const Vector3d& u0,
-              Scratch& sc, double* acc, const PointBases& pb) {
+              Scratch& sc, double* acc) {
   const int nl = R.nl(), n0 = R.n0, n1 = nl - n0;
   const int Kn = K * nb, n3 = 3 * nb;
   size_lines(sc, nb, nl);
@@ -229,30 +286,16 @@ void line_sum(int nb, int K, const LineRule& R, double sign, const Vector3d& x0,
           R.dLc.middleCols(n0, n1).transpose() * sc.D1.leftCols(n3);
     }
   }
-  const int ld = static_cast<int>(R.LoT.rows());
   if constexpr (M == Mode::Single) {
+    (void)sign;  // |n| does not depend on the orientation
     for (int l = 0; l < nl; ++l) {
       const int p0 = R.start[l], m = R.start[l + 1] - p0;
-      if (m == 0) continue;
-      const double *lo = R.LoT.data() + p0, *dlo = R.dLoT.data() + p0;
-      long ldl = ld;
-      if (pb.nodes) {
-        // single_line reads whole blocks of 4 points: rows m .. ldl-1 stay zero
-        ldl = (m + 3) & ~3;
-        const size_t need = 2 * static_cast<size_t>(ldl) * nb;
-        if (sc.lb.size() < need) sc.lb.assign(need, 0.0);
-        double* L = sc.lb.data();
-        double* dL = L + ldl * nb;
-        spectral::lagrange_bases(*pb.nodes, *pb.c, R.o.data() + p0, m, L, dL, ldl);
-        for (int j = 0; j < nb; ++j)
-          for (long q = m; q < ldl; ++q) L[q + j * ldl] = dL[q + j * ldl] = 0.0;
-        lo = L;
-        dlo = dL;
-      }
-      single_line(nb, m, sc.A.row(l).data(), sc.B.row(l).data(), lo, dlo, ldl, R.w.data() + p0,
-                  l < n0 ? sign : -sign, x0.data(), sc.v.data(), acc);
+      if (m > 0)
+        single_line(nb, m, sc.A.row(l).data(), sc.B.row(l).data(), R.o.data() + p0, R.w.data() + p0,
+                    x0.data(), acc);
     }
   } else {
+    const int ld = static_cast<int>(R.LoT.rows());
     for (int l = 0; l < nl; ++l) {
       const int p0 = R.start[l], m = R.start[l + 1] - p0;
       if (m == 0) continue;
@@ -321,13 +364,13 @@ void line_sum(int nb, int K, const LineRule& R, double sign, const Vector3d& x0,
 }
 
 template void line_sum<Mode::Single>(int, int, const LineRule&, double, const Vector3d&,
-                                     const Vector3d&, Scratch&, double*, const PointBases&);
+                                     const Vector3d&, Scratch&, double*);
 template void line_sum<Mode::SingleNormal>(int, int, const LineRule&, double, const Vector3d&,
-                                           const Vector3d&, Scratch&, double*, const PointBases&);
+                                           const Vector3d&, Scratch&, double*);
 template void line_sum<Mode::Double>(int, int, const LineRule&, double, const Vector3d&,
-                                     const Vector3d&, Scratch&, double*, const PointBases&);
+                                     const Vector3d&, Scratch&, double*);
 template void line_sum<Mode::DoubleNormal>(int, int, const LineRule&, double, const Vector3d&,
-                                           const Vector3d&, Scratch&, double*, const PointBases&);
+                                           const Vector3d&, Scratch&, double*);
 
 // Single layer with the product g = J f interpolated from its nodal values (sc.D0/D1 hold x
 // and g): 6 values per point instead of 12 (no tangents, no derivative bases).

@@ -20,17 +20,25 @@ using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowM
 struct Scratch {
   RowMat D0, D1;  // element data, nb x (K nb): D0(i, k nb + j) = D1(j, k nb + i) = X_k(i, j)
   RowMat A, B;    // stage 1: values / derivative across, per line
-  std::vector<double> v;   // stage 2 per line: 12 arrays of the line's length
-  std::vector<double> lb;  // per-line point bases of a rule without stored ones (2 ld nb)
-  LineRule near;           // the near rule of the (target, element) being summed
+  std::vector<double> v;  // stage 2 per line: 12 arrays of the line's length
+  LineRule near;          // the near rule of the (target, element) being summed
 };
 
-// Where line_sum finds the point bases: stored in the rule (nodes == nullptr), or computed
-// line by line from the element's nodes and product weights (single layer only).
-struct PointBases {
-  const Eigen::VectorXd* nodes = nullptr;
-  const Eigen::VectorXd* c = nullptr;
+// An element's nodal data for the single layer with the coordinate along the rule lines in
+// Chebyshev coefficients (spectral::chebyshev_matrix), made once per element and call: cs row i
+// (s-node), column c nb + k = the k-th coefficient in t of X_c(s_i, t); ct row j (t-node),
+// column c nb + k = the k-th coefficient in s of X_c(s, t_j) (X_c: x, then the density if K = 6).
+// Stage 2 then evaluates T_k and T_k' = k U_{k-1} by their recurrences at each point instead of
+// Lagrange bases (no per-point basis evaluation for the near rules, no stored point bases read
+// for the own rules).
+struct ChebElement {
+  RowMat cs, ct;
 };
+void chebyshev_element(int nb, int K, const Eigen::MatrixXd& C, const Eigen::Matrix3Xd& x,
+                       const Eigen::Matrix3Xd* dens, int base, ChebElement& ce);
+// The data of ce in the orientation of symmetry sym (OwnRules bits: 1 flip s, 2 flip t, 4 swap;
+// 0 for the near rules) into sc.D0 / sc.D1, as line_sum<Mode::Single> expects them.
+void load_chebyshev(int nb, int K, const ChebElement& ce, int sym, Scratch& sc);
 
 // Element data (x and, if K == 6, the density) in the orientation given by perm (canonical
 // (a + nb b) -> local node within the element).
@@ -44,12 +52,13 @@ void size_lines(Scratch& sc, int nb, int lines);
 void size_scratch(Scratch& sc, int nb, int lines);
 
 // Sum the kernel over the points of one line rule; the element data are in sc.D0/D1 (in the
-// rule's orientation); sign: orientation of the rule's (s, t) relative to the element's.
+// rule's orientation: load_element, or load_chebyshev for Mode::Single); sign: orientation of
+// the rule's (s, t) relative to the element's.
 // Stage 1: for every line, the 1-D interpolation across the lines (dense products
 // Lc^T D: lines x (K nb)); stage 2: per point, length-nb dot products along the line.
 template <Mode M>
 void line_sum(int nb, int K, const LineRule& R, double sign, const Eigen::Vector3d& x0,
-              const Eigen::Vector3d& u0, Scratch& sc, double* acc, const PointBases& pb = {});
+              const Eigen::Vector3d& u0, Scratch& sc, double* acc);
 
 // Single layer with the product g = J f interpolated from its nodal values (sc.D0/D1 hold x
 // and g): 6 values per point instead of 12 (no tangents, no derivative bases).

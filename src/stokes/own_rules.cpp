@@ -59,6 +59,7 @@ OwnRules::OwnRules(const geometry::Mesh& mesh, const QuadratureOptions& opt,
   // node placed in elements 0, ne/2 and ne-1.
   struct Probe {
     Matrix3Xd x, f;
+    std::vector<ChebElement> cheb;  // the single layer's element data
   };
   std::vector<Probe> probes;
   std::vector<int> probe_elems;
@@ -76,6 +77,10 @@ OwnRules::OwnRules(const geometry::Mesh& mesh, const QuadratureOptions& opt,
         pr.f.col(m) =
             Vector3d(1.0 + 0.3 * q[0], 0.5 - 0.2 * q[1] + 0.1 * q[0] * q[2], std::cos(q[2]));
       }
+      const Eigen::MatrixXd C = spectral::chebyshev_matrix(xi);
+      pr.cheb.resize(mesh.ne());
+      for (int e = 0; e < mesh.ne(); ++e)
+        chebyshev_element(nb, 6, C, pr.x, &pr.f, e * nb * nb, pr.cheb[e]);
       probes.push_back(std::move(pr));
     }
     size_scratch(sc, nb, 0);
@@ -90,8 +95,9 @@ OwnRules::OwnRules(const geometry::Mesh& mesh, const QuadratureOptions& opt,
       for (int e : probe_elems) {
         const Vector3d x0 = pr.x.col(mesh.local(e, ic, jc));
         double acc[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
-        load_element(nb, 6, pr.x, &pr.f, e * nb * nb, nullptr, sc);
+        load_chebyshev(nb, 6, pr.cheb[e], 0, sc);
         line_sum<Mode::Single>(nb, 6, r, 1.0, x0, Vector3d::Zero(), sc, acc);
+        load_element(nb, 6, pr.x, &pr.f, e * nb * nb, nullptr, sc);
         v.insert(v.end(), acc, acc + 3);
         double acc2[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
         line_sum<Mode::DoubleNormal>(nb, 3, r, 1.0, x0, Vector3d::Zero(), sc, acc2);

@@ -11,7 +11,9 @@
 using namespace capflow::spectral;
 
 namespace {
-double monomial_integral(int k) { return (k % 2 == 1) ? 0.0 : 2.0 / (k + 1.0); }
+double monomial_integral(int k) {
+  return (k % 2 == 1) ? 0.0 : 2.0 / (k + 1.0);
+}
 
 double legendre_square_sum(const Rule& r, int k) {
   double s = 0;
@@ -95,7 +97,7 @@ TEST(Spectral, InterpolationAndDifferentiationExactOnDegreeNbMinus1) {
     }
     VectorXd t(7);
     for (int k = 0; k < 5; ++k) t[k] = u(rng);
-    t[5] = x[0];  // a node exactly
+    t[5] = x[0];               // a node exactly
     t[6] = x[nb / 2] + 1e-12;  // extremely close to a node
     const VectorXd ft = interpolation_matrix(x, t) * f;
     const VectorXd dft = derivative_matrix(x, t) * f;
@@ -106,7 +108,8 @@ TEST(Spectral, InterpolationAndDifferentiationExactOnDegreeNbMinus1) {
     }
     for (int i = 0; i < nb; ++i) ASSERT_NEAR(dfn[i], df[i], 1e-12 * nb * nb) << "nb=" << nb;
     // Differentiation annihilates constants exactly (negative-sum diagonal).
-    EXPECT_LT((differentiation_matrix(x) * VectorXd::Ones(nb)).cwiseAbs().maxCoeff(), 1e-15 * nb * nb);
+    EXPECT_LT((differentiation_matrix(x) * VectorXd::Ones(nb)).cwiseAbs().maxCoeff(),
+              1e-15 * nb * nb);
   }
 }
 
@@ -140,8 +143,7 @@ TEST(Spectral, TensorProductExactOnDegreeNbMinus1) {
     const VectorXd sa = VectorXd::LinSpaced(5, -1, 1), tb = VectorXd::LinSpaced(4, -0.9, 0.9);
     const MatrixXd r = tensor_resample(x, v, sa, tb);
     for (int a = 0; a < 5; ++a)
-      for (int b = 0; b < 4; ++b)
-        EXPECT_NEAR(r(a, b), p(sa[a]) * q(tb[b]) + sa[a] * tb[b], 1e-13);
+      for (int b = 0; b < 4; ++b) EXPECT_NEAR(r(a, b), p(sa[a]) * q(tb[b]) + sa[a] * tb[b], 1e-13);
   }
 }
 
@@ -216,13 +218,58 @@ TEST(Spectral, BatchBasesExactOnPolynomialsAtAndNearNodes) {
       err_v = std::max(err_v, std::abs(v - p(t[q])));
       err_d = std::max(err_d, std::abs(d - p.derivative(t[q])));
     }
-    std::printf("nb=%d (%d points): value %.1e, derivative %.1e, vs lagrange_basis %.1e\n", nb,
-                np, err_v, err_d, err_single);
+    std::printf("nb=%d (%d points): value %.1e, derivative %.1e, vs lagrange_basis %.1e\n", nb, np,
+                err_v, err_d, err_single);
     EXPECT_LT(err_v, 1e-14 * nb) << "nb=" << nb;
     EXPECT_LT(err_d, 2e-14 * nb * nb) << "nb=" << nb;
     EXPECT_LT(err_single, 1e-14 * nb) << "nb=" << nb;
   }
-  EXPECT_THROW(lagrange_bases(gauss_lobatto(4).x, VectorXd::Ones(3), nullptr, 0, nullptr,
-                              nullptr, 0),
-               std::invalid_argument);
+  EXPECT_THROW(
+      lagrange_bases(gauss_lobatto(4).x, VectorXd::Ones(3), nullptr, 0, nullptr, nullptr, 0),
+      std::invalid_argument);
+}
+
+// chebyshev_matrix: the Chebyshev coefficients of a polynomial of degree < nb are recovered from
+// its values at the nodes, and the Chebyshev series (with the derivative k U_{k-1}) reproduces the
+// polynomial and its derivative everywhere in [-1, 1].
+TEST(Spectral, ChebyshevCoefficientsExactOnDegreeNbMinus1) {
+  std::mt19937 rng(77);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int nb : {2, 3, 6, 10, 14, 18, 24}) {
+    const VectorXd x = gauss_lobatto(nb).x;
+    const MatrixXd C = chebyshev_matrix(x);
+    VectorXd c(nb), v(nb);
+    for (int k = 0; k < nb; ++k) c[k] = u(rng);
+    for (int j = 0; j < nb; ++j) {
+      v[j] = 0;
+      for (int k = 0; k < nb; ++k) v[j] += c[k] * std::cos(k * std::acos(x[j]));
+    }
+    const double err_c = (C * v - c).cwiseAbs().maxCoeff();
+    const Poly p = random_poly(nb - 1, rng);
+    VectorXd pv(nb);
+    for (int j = 0; j < nb; ++j) pv[j] = p(x[j]);
+    const VectorXd pc = C * pv;
+    double err_v = 0, err_d = 0;
+    for (int q = 0; q <= 200; ++q) {
+      const double t = -1.0 + q * 0.01;
+      // T_k by the three-term recurrence, T_k' = k U_{k-1}
+      double tm = 1.0, tk = t, um = 0.0, uk = 1.0, val = pc[0], der = 0.0;
+      for (int k = 1; k < nb; ++k) {
+        val += pc[k] * tk;
+        der += k * pc[k] * uk;
+        const double tn = 2 * t * tk - tm, un = 2 * t * uk - um;
+        tm = tk;
+        tk = tn;
+        um = uk;
+        uk = un;
+      }
+      err_v = std::max(err_v, std::abs(val - p(t)));
+      err_d = std::max(err_d, std::abs(der - p.derivative(t)));
+    }
+    std::printf("nb=%d: coefficients %.1e, values %.1e, derivatives %.1e\n", nb, err_c, err_v,
+                err_d);
+    EXPECT_LT(err_c, 1e-14 * nb) << "nb=" << nb;
+    EXPECT_LT(err_v, 1e-14 * nb) << "nb=" << nb;
+    EXPECT_LT(err_d, 2e-14 * nb * nb) << "nb=" << nb;
+  }
 }
