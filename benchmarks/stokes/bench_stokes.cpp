@@ -34,6 +34,8 @@ void report(benchmark::State& st, const stokes::OperatorStats& s) {
   st.counters["own%"] = 100.0 * s.own_pairs / pairs;
   st.counters["near%"] = 100.0 * s.near_pairs / pairs;
   st.counters["far%"] = 100.0 * s.far_pairs / pairs;
+  st.counters["near/target"] = static_cast<double>(s.near_elements) / s.targets;
+  st.counters["searches/target"] = static_cast<double>(s.searches) / s.targets;
 }
 
 void BM_SingleLayer(benchmark::State& st) {

@@ -152,8 +152,8 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
 
   const int max_near_lines = max_near_lines_, max_lines = max_lines_, max_line = max_line_;
 
-  long far_pairs = 0, own_pairs = 0, near_pairs = 0, near_elements = 0;
-#pragma omp parallel reduction(+ : far_pairs, own_pairs, near_pairs, near_elements)
+  long far_pairs = 0, own_pairs = 0, near_pairs = 0, near_elements = 0, searches = 0;
+#pragma omp parallel reduction(+ : far_pairs, own_pairs, near_pairs, near_elements, searches)
   {
     thread_local Scratch sc;  // per OpenMP thread, kept across calls (see far above)
     size_scratch(sc, nb, max_lines);
@@ -200,6 +200,7 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
         const double crit_mid = opt_.mid_factor * esize[e];
         if ((x0 - centre[e]).norm() - radius[e] < crit_mid) {
           np = geometry::nearest_point(mesh, x, e, x0);
+          ++searches;
           near = np.h < crit;
           tier = np.h < crit_mid ? 1 : 0;
         }
@@ -248,6 +249,7 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
   stats.own_pairs = own_pairs;
   stats.near_pairs = near_pairs;
   stats.near_elements = near_elements;
+  stats.searches = searches;
   return stats;
 }
 

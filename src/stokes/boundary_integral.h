@@ -128,6 +128,7 @@ struct OperatorStats {
   long own_pairs = 0;      // own-element polar points
   long near_pairs = 0;     // near-singular points
   long near_elements = 0;  // (target, element) pairs treated as near
+  long searches = 0;       // nearest-point searches (near and mid tier candidates)
   long pairs() const { return far_pairs + own_pairs + near_pairs; }
 };
 

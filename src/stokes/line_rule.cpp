@@ -48,7 +48,14 @@ inline void basis(const geometry::Mesh& mesh, double t, double* l, double* dl) {
 void polar_rule(double s0, double t0, const double* hu, const spectral::Rule& ge,
                 const spectral::Rule& gr, LineRule& R, const RadialOpt& ro) {
   R.c.clear();
-  R.start.clear();
+  R.start.assign(1, 0);
+  R.base.clear();
+  R.scale.clear();
+  R.wscale.clear();
+  R.set.clear();
+  R.set_start.assign(1, 0);
+  R.off.clear();
+  R.wedge.clear();
   R.o.clear();
   R.w.clear();
   R.n0 = -1;
@@ -76,9 +83,8 @@ void polar_rule(double s0, double t0, const double* hu, const spectral::Rule& ge
     const double p_along = E.axis == 1 ? t0 : s0;
     const double p_across = E.axis == 1 ? s0 : t0;
     const double f_across = E.axis == 1 ? E.fs : E.ft;
-    // edge points (along-edge offset from the foot, times the Jacobian weight), per side
-    double off[2][kMaxEdge], wedge[2][kMaxEdge];
-    int cnt[2] = {0, 0};
+    // the edge point set: along-edge offsets from the foot, times the Jacobian weight, side
+    // k = 0 (towards -) then k = 1
     for (int k = 0; k < 2; ++k) {
       const double L = k == 0 ? E.lo : E.hi;
       if (L < kTiny) continue;
@@ -87,23 +93,35 @@ void polar_rule(double s0, double t0, const double* hu, const spectral::Rule& ge
       for (int a = 0; a < nge; ++a) {
         const double tau = 0.5 * tau_max * (ge.x[a] + 1.0);
         const double wt = 0.5 * tau_max * ge.w[a];
-        off[k][a] = dir * E.d * std::sinh(tau);
-        wedge[k][a] = wt * E.d * std::cosh(tau) * E.d;
+        R.off.push_back(dir * E.d * std::sinh(tau));
+        R.wedge.push_back(wt * E.d * std::cosh(tau) * E.d);
       }
-      cnt[k] = nge;
     }
+    const int set = static_cast<int>(R.set_start.size()) - 1;
+    R.set_start.push_back(static_cast<int>(R.off.size()));
+    const int m = R.set_start[set + 1] - R.set_start[set];
     for (const auto& uw : rad) {
       const double u = uw.first, wu = uw.second;
       R.c.push_back(p_across + u * (f_across - p_across));
-      R.start.push_back(static_cast<int>(R.o.size()));
-      for (int k = 0; k < 2; ++k)
-        for (int a = 0; a < cnt[k]; ++a) {
-          R.o.push_back(p_along + u * off[k][a]);
-          R.w.push_back(wedge[k][a] * u * wu);
-        }
+      R.base.push_back(p_along);
+      R.scale.push_back(u);
+      R.wscale.push_back(u * wu);
+      R.set.push_back(set);
+      R.start.push_back(R.start.back() + m);
     }
   }
-  R.start.push_back(static_cast<int>(R.o.size()));
+}
+
+void expand_points(LineRule& R) {
+  R.o.resize(R.np());
+  R.w.resize(R.np());
+  for (int l = 0; l < R.nl(); ++l) {
+    const double *off = R.line_off(l), *wedge = R.line_wedge(l);
+    for (int j = 0, p = R.start[l]; p < R.start[l + 1]; ++j, ++p) {
+      R.o[p] = R.base[l] + R.scale[l] * off[j];
+      R.w[p] = R.wscale[l] * wedge[j];
+    }
+  }
 }
 
 void fill_bases(const geometry::Mesh& mesh, const VectorXd& c, LineRule& R, bool points) {
@@ -114,6 +132,7 @@ void fill_bases(const geometry::Mesh& mesh, const VectorXd& c, LineRule& R, bool
   }
   for (int l = 0; l < nl; ++l) basis(mesh, R.c[l], R.Lc.col(l).data(), R.dLc.col(l).data());
   if (!points) return;
+  expand_points(R);
   // leading dimension = rows >= np + 4 (blocks of 4 points)
   if (R.LoT.rows() < np + 4 || R.LoT.cols() != nb) {
     R.LoT.resize(np + 4, nb);

@@ -17,17 +17,32 @@ constexpr int kMaxEdge = 256;  // Gauss points along an edge
 
 // A special quadrature rule whose points lie on "lines" of constant s (lines [0, n0)) or
 // constant t (lines [n0, nl)) in the canonical orientation of the square: the 1-D bases in
-// the constant direction are shared by all points of a line.
+// the constant direction are shared by all points of a line. The points of a line are one of the
+// rule's edge point sets (per edge of the square: the along-edge offsets `off` from the foot of
+// the perpendicular and their weights `wedge`) scaled by the line's ray fraction u:
+//   o = base + scale off[j],  w = wscale wedge[j]   (scale = u, wscale = u * radial weight).
+// expand_points fills the per-point o, w (the other modes' stage 2 reads them with LoT, dLoT);
+// the single layer generates them as it sums.
 struct LineRule {
-  int n0 = 0;                 // number of constant-s lines
-  std::vector<double> c;      // per line: the constant coordinate
-  std::vector<int> start;     // per line: first point (size nl + 1)
-  std::vector<double> o, w;   // per point: the coordinate along the line, weight
-  Eigen::MatrixXd Lc, dLc;    // nb x nl: 1-D bases (and derivatives) at c
+  int n0 = 0;                               // number of constant-s lines
+  std::vector<double> c;                    // per line: the constant coordinate
+  std::vector<int> start;                   // per line: first point (size nl + 1)
+  std::vector<double> base, scale, wscale;  // per line: o = base + scale off, w = wscale wedge
+  std::vector<int> set;                     // per line: its edge point set
+  std::vector<int> set_start;               // per set: first entry of off / wedge (size sets + 1)
+  std::vector<double> off, wedge;           // the edge point sets
+  std::vector<double> o, w;                 // per point (expand_points): along coordinate, weight
+  Eigen::MatrixXd Lc, dLc;                  // nb x nl: 1-D bases (and derivatives) at c
   Eigen::MatrixXd LoT, dLoT;  // np x nb: 1-D bases (and derivatives) at o, point-major
   int nl() const { return static_cast<int>(c.size()); }
-  int np() const { return static_cast<int>(o.size()); }
+  int np() const { return start.empty() ? 0 : start.back(); }
+  // line l's edge point set: its first offset / weight and its size
+  const double* line_off(int l) const { return off.data() + set_start[set[l]]; }
+  const double* line_wedge(int l) const { return wedge.data() + set_start[set[l]]; }
 };
+
+// The per-point o, w of a rule (from its lines and edge point sets).
+void expand_points(LineRule& R);
 
 // Radial rule of a polar rule's rays (the radial nodes (u, weight) on [0, 1] for one edge):
 // h <= 0: Gauss-Legendre gr in u. h > 0 (scale h in u): the inner panel [0, u1], u1 = min(1, split)
@@ -55,11 +70,11 @@ struct RadialOpt {
 void polar_rule(double s0, double t0, const double* hu, const spectral::Rule& ge,
                 const spectral::Rule& gr, LineRule& R, const RadialOpt& ro = RadialOpt());
 
-// Bases of a line rule: Lc, dLc at the line coordinates and, if `points`, LoT, dLoT at the
-// points (spectral::lagrange_bases, product weights c). The matrices are resized only when they
-// are too small or of another nb (scratch reused across calls and operators). Without `points`
-// the single layer evaluates the point bases line by line while it sums (line_sum: they stay
-// in L1 instead of a rule-sized array).
+// Bases of a line rule: Lc, dLc at the line coordinates and, if `points`, o, w (expand_points)
+// and LoT, dLoT at the points (spectral::lagrange_bases, product weights c). The matrices are
+// resized only when they are too small or of another nb (scratch reused across calls and
+// operators). Without `points` the single layer evaluates the point bases line by line while it
+// sums (line_sum: they stay in L1 instead of a rule-sized array).
 void fill_bases(const geometry::Mesh& mesh, const Eigen::VectorXd& c, LineRule& R,
                 bool points = true);
 

@@ -93,16 +93,17 @@ namespace {
 
 // Single layer, one line of a line rule: stage 2 (values along the line from the stage-1 rows
 // A (x, f: 6 nb Chebyshev coefficients in the along coordinate) and B (d/d(across) x: 3 nb))
-// and the kernel sum, added to out[0..2]. o, w: the line's points (along coordinate) and
-// weights. Blocks of 4 points with the 12 interpolated values in registers (GCC vector
-// extension): T_k by T_{k+1} = 2 o T_k - T_{k-1}, T_k' = k U_{k-1} with U likewise. Compiled
-// three times (x86-64-v4 with AVX-512, x86-64-v3 with AVX2/FMA, and the default), chosen at
-// load time.
+// and the kernel sum, added to out[0..2]. The line's m points o_j = base + scale off[j] (along
+// coordinate) with weights w_j = wscale wedge[j] (LineRule). Blocks of 4 points with the 12
+// interpolated values in registers (GCC vector extension): T_k by T_{k+1} = 2 o T_k - T_{k-1}, T_k'
+// = k U_{k-1} with U likewise. Compiled three times (x86-64-v4 with AVX-512, x86-64-v3 with
+// AVX2/FMA, and the default), chosen at load time.
 typedef double v4d __attribute__((vector_size(32)));
 
 CAPFLOW_TARGET_CLONES("arch=x86-64-v4", "arch=x86-64-v3", "default")
-void single_line(int nb, int m, const double* A, const double* B, const double* o, const double* w,
-                 const double* x0, double* out) {
+void single_line(int nb, int m, const double* A, const double* B, double base, double scale,
+                 const double* off, double wscale, const double* wedge, const double* x0,
+                 double* out) {
   double kx[3 * kMaxNb];  // k c_k of the position's coefficients (the derivative's U weights)
   for (int c = 0; c < 3; ++c)
     for (int k = 0; k < nb; ++k) kx[c * nb + k] = k * A[c * nb + k];
@@ -113,8 +114,8 @@ void single_line(int nb, int m, const double* A, const double* B, const double* 
     v4d ov, wq, pad;
     for (int q = 0; q < 4; ++q) {
       const bool in = p0 + q < m;
-      ov[q] = in ? o[p0 + q] : 0.0;
-      wq[q] = in ? w[p0 + q] : 0.0;
+      ov[q] = in ? base + scale * off[p0 + q] : 0.0;
+      wq[q] = in ? wscale * wedge[p0 + q] : 0.0;
       pad[q] = in ? 0.0 : 1.0;
     }
     const v4d o2 = ov + ov;
@@ -291,8 +292,8 @@ void line_sum(int nb, int K, const LineRule& R, double sign, const Vector3d& x0,
     for (int l = 0; l < nl; ++l) {
       const int p0 = R.start[l], m = R.start[l + 1] - p0;
       if (m > 0)
-        single_line(nb, m, sc.A.row(l).data(), sc.B.row(l).data(), R.o.data() + p0, R.w.data() + p0,
-                    x0.data(), acc);
+        single_line(nb, m, sc.A.row(l).data(), sc.B.row(l).data(), R.base[l], R.scale[l],
+                    R.line_off(l), R.wscale[l], R.line_wedge(l), x0.data(), acc);
     }
   } else {
     const int ld = static_cast<int>(R.LoT.rows());
