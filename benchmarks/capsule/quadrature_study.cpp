@@ -7,7 +7,7 @@
 // n_radial nb + 4, near edge nb + 2, one near outer panel of nb points, mid order 2 nb + 4), or
 // a comma list of key=value over the defaults, keys: n_edge, n_radial_inner, n_radial,
 // own_split, own_grading, n_edge_near, n_radial_near, n_radial_near_out, near_out_panels,
-// near_split, near_factor, mid_factor, nq_far, nq_mid.
+// near_split, near_factor, mid_factor, nq_far, nq_mid, single_near_factor, single_nq_mid.
 // Usage: quadrature_study [--check-ref K] RUN_DIR|CKPT VARIANT...
 // Used for docs/performance.md ("Own and near radial rules").
 #include <omp.h>
@@ -52,12 +52,15 @@ stokes::QuadratureOptions variant(const std::string& spec, const stokes::Quadrat
                                                        {"n_radial_near_out", &Q::n_radial_near_out},
                                                        {"near_out_panels", &Q::near_out_panels},
                                                        {"nq_far", &Q::nq_far},
-                                                       {"nq_mid", &Q::nq_mid}};
-  static const std::map<std::string, double Q::*> reals = {{"own_split", &Q::own_split},
-                                                           {"own_grading", &Q::own_grading},
-                                                           {"near_split", &Q::near_split},
-                                                           {"near_factor", &Q::near_factor},
-                                                           {"mid_factor", &Q::mid_factor}};
+                                                       {"nq_mid", &Q::nq_mid},
+                                                       {"single_nq_mid", &Q::single_nq_mid}};
+  static const std::map<std::string, double Q::*> reals = {
+      {"own_split", &Q::own_split},
+      {"own_grading", &Q::own_grading},
+      {"near_split", &Q::near_split},
+      {"near_factor", &Q::near_factor},
+      {"single_near_factor", &Q::single_near_factor},
+      {"mid_factor", &Q::mid_factor}};
   std::stringstream ss(spec);
   std::string item;
   while (std::getline(ss, item, ',')) {

@@ -29,6 +29,12 @@ QuadratureOptions resolve_defaults(const geometry::Mesh& mesh, QuadratureOptions
   // Mid order: 2 nb + 4 left 1e-4 (relative) in SL[f] at the strongly deformed NH Ca=0.4 state
   // (NE=14 NB=10, t=17.4; benchmarks/capsule/quadrature_study), 3 nb + 2 leaves 3e-5.
   if (opt.nq_mid <= 0) opt.nq_mid = 3 * nb + 2;
+  // The single layer's near tier can end at 0.1 sizes (0.2 for the double layer) with 4 nb + 4
+  // Gauss points beyond: the same accuracy on the sphere identities and the deformed shapes of
+  // tests/stokes at 11-24 % less time per call (docs/performance.md).
+  if (opt.single_nq_mid <= 0) opt.single_nq_mid = 4 * nb + 4;
+  if (!(opt.single_near_factor > 0.0 && opt.near_factor > 0.0))
+    throw std::invalid_argument("BoundaryOperators: near factors must be positive");
   // Elongated elements (NE=14 rows: 30 x 90 degrees) stretch the sinh-mapped edge coordinate
   // over a longer physical length; with the square-element orders their next-to-edge nodes miss
   // INT T.n = -4 pi I by 8e-8 at NB=12, with these 2.4e-9 (tests/stokes, StokesSphere).
@@ -61,8 +67,9 @@ BoundaryOperators::BoundaryOperators(const geometry::Mesh& mesh, QuadratureOptio
       cheb_(spectral::chebyshev_matrix(mesh.nodes())),
       own_(mesh, opt_, prod_w_) {
   const VectorXd& xi = mesh.nodes();
-  for (int tier = 0; tier < 2; ++tier) {
-    const spectral::Rule gq = spectral::gauss_legendre(tier == 0 ? opt_.nq_far : opt_.nq_mid);
+  for (int tier = 0; tier < 3; ++tier) {
+    const spectral::Rule gq = spectral::gauss_legendre(
+        tier == 0 ? opt_.nq_far : (tier == 1 ? opt_.nq_mid : opt_.single_nq_mid));
     far_basis_[tier].w = gq.w;
     far_basis_[tier].I = spectral::interpolation_matrix(xi, gq.x);
     far_basis_[tier].Id = spectral::derivative_matrix(xi, gq.x);
@@ -96,7 +103,9 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
 
   // ---- far-field data at Gauss points (per call: depends on the geometry) ----
   // Two orders: nq_far for elements at distance >= mid_factor * size, nq_mid between
-  // near_factor * size and that.
+  // near_factor * size and that (the single layer: single_nq_mid from single_near_factor).
+  const int mid_tier = M == Mode::Single ? 2 : 1;
+  const double near_factor = M == Mode::Single ? opt_.single_near_factor : opt_.near_factor;
   // Single layer with interpolate_jf: the special rules interpolate g = J f from its nodal
   // values (J = |x_xi x x_eta| at the nodes from the differentiation matrix).
   const bool jf = M == Mode::Single && opt_.interpolate_jf;
@@ -123,24 +132,24 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
   // of this mode): allocated per call, the far data (0.3 + 0.5 MB at NB=10) and the line
   // buffers below made glibc grow and trim its heap on every call, ~200 page faults a call
   // (docs/performance.md, "Heap churn").
-  thread_local FarData far_tls[2];
+  thread_local FarData far_tls[3];
   // single layer: the elements' data in Chebyshev coefficients along the rule lines
   const bool cheb = M == Mode::Single && !jf;
   thread_local std::vector<ChebElement> cheb_tls;
   if (cheb && static_cast<int>(cheb_tls.size()) < ne) cheb_tls.resize(ne);
   std::vector<ChebElement>& ce = cheb_tls;
   FarData* const far = far_tls;  // the calling thread's buffers, shared with the team below
-  for (int tier = 0; tier < 2; ++tier) {
+  for (int tier : {0, mid_tier}) {
     far[tier].nq = static_cast<int>(far_basis_[tier].w.size());
     far[tier].d.resize(10, ne * far[tier].nq * far[tier].nq);
   }
   // one task per (tier, element): the far data is ~5 % of a call, serial it left a core idle
 #pragma omp parallel for schedule(dynamic, 1)
   for (int task = 0; task < 2 * ne; ++task) {
-    const int tier = task / ne, e = task % ne;
+    const int tier = task < ne ? 0 : mid_tier, e = task % ne;
     const FarBasis& fb = far_basis_[tier];
     far_data<M>(mesh, x, dens, fb.w, fb.I, fb.Id, e, far[tier], tier == 0 ? &esize[e] : nullptr);
-    if (cheb && tier == 1) chebyshev_element(nb, K, cheb_, x, dens, e * nb2, ce[e]);
+    if (cheb && tier != 0) chebyshev_element(nb, K, cheb_, x, dens, e * nb2, ce[e]);
   }
   for (int e = 0; e < ne; ++e) {
     Vector3d cen = x.middleCols(e * nb2, nb2).rowwise().mean();
@@ -194,15 +203,15 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
       for (int e = 0; e < ne; ++e) {
         if (own[e]) continue;
         bool near = false;
-        int tier = 0;  // far order: 0 nq_far, 1 nq_mid
+        int tier = 0;  // far order: 0 nq_far, else mid_tier
         geometry::NearestPoint np;
-        const double crit = opt_.near_factor * esize[e];
+        const double crit = near_factor * esize[e];
         const double crit_mid = opt_.mid_factor * esize[e];
         if ((x0 - centre[e]).norm() - radius[e] < crit_mid) {
           np = geometry::nearest_point(mesh, x, e, x0);
           ++searches;
           near = np.h < crit;
-          tier = np.h < crit_mid ? 1 : 0;
+          tier = np.h < crit_mid ? mid_tier : 0;
         }
         if (near) {
           ++near_elements;
@@ -356,6 +365,7 @@ QuadratureOptions scale_orders(const QuadratureOptions& resolved, const OrderSca
   auto up = [](int& n, double f) { n = std::max(2, static_cast<int>(std::lround(n * f))); };
   up(q.nq_far, k.far);
   up(q.nq_mid, k.mid > 0 ? k.mid : k.far);
+  up(q.single_nq_mid, k.mid > 0 ? k.mid : k.far);
   up(q.n_edge, k.own);
   up(q.n_radial, k.own);
   if (q.n_radial_inner > 0) up(q.n_radial_inner, k.own);

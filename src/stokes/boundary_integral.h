@@ -32,6 +32,7 @@
 //    [u1, 1] with `near_out_panels` panels (lengths growing by 2) of `n_radial_near_out` Gauss
 //    points in u (the sinh map alone under-resolves the
 //    polynomial part far from p*). `n_edge_near` points in tau. Recomputed per call.
+//    (The single layer: single_near_factor and single_nq_mid instead of near_factor, nq_mid.)
 //  * far elements: Gauss-Legendre, nq_mid x nq_mid for near_factor <= h/size < mid_factor
 //    (h from the Newton above), nq_far x nq_far beyond (bounding-sphere test).
 // Every special rule is a set of "lines": for a fixed u, the points of the two triangles on
@@ -100,6 +101,12 @@ struct QuadratureOptions {
   double near_split = 0.3;   // ray fraction where the near radial rule switches (<= 0: none)
   double near_factor = 0.2;  // near when dist(x0, E) < near_factor * size(E)
   double mid_factor = 0.5;   // nq_mid when dist(x0, E) < mid_factor * size(E)
+  // The single layer's tiers (its 1/r kernel needs the near rules closer to the surface than
+  // the 1/r^2 of the double layer and INT T.n; measured on the sphere identities and deformed
+  // shapes, docs/performance.md): near when dist < single_near_factor * size(E), then Gauss
+  // with single_nq_mid points per direction up to mid_factor * size(E).
+  double single_near_factor = 0.1;
+  int single_nq_mid = 0;  // 0 -> 4 nb + 4
   // > 0: per-node own rules (fewest points within this relative tolerance of a (3nb, 2nb+4)
   // rule; cached per mesh type). Off by default: at 3e-9 it removes 40-45 % of the own points
   // but misses the 1e-8 INT T.n identity at NE=10 NB=12 and takes seconds at NE=14.
@@ -184,7 +191,7 @@ class BoundaryOperators {
   Eigen::VectorXd prod_w_;  // spectral::product_weights of the element nodes (rule bases)
   Eigen::MatrixXd cheb_;    // spectral::chebyshev_matrix of the element nodes
   OwnRules own_;
-  FarBasis far_basis_[2];  // the far tiers' Gauss rules: 0 nq_far, 1 nq_mid
+  FarBasis far_basis_[3];  // the far tiers' Gauss rules: 0 nq_far, 1 nq_mid, 2 single_nq_mid
   // The near rules' Gauss rules (along the edge, radial inner and outer part) and the scratch
   // sizes: lines of a near rule, lines of any rule, points of any line.
   spectral::Rule near_edge_, near_radial_, near_radial_out_;

@@ -23,19 +23,28 @@ void far_data(const geometry::Mesh& mesh, const Matrix3Xd& x, const Matrix3Xd* d
               const VectorXd& gw, const MatrixXd& I, const MatrixXd& Id, int e, FarData& F,
               double* esize) {
   const int nb = mesh.nb(), nb2 = nb * nb, nq = static_cast<int>(gw.size()), nqe = nq * nq;
-  MatrixXd X(nb, nb);
-  MatrixXd xq[3], xsq[3], xtq[3], dq[3];
+  // per-thread workspace kept across calls: allocated per call, these temporaries made the
+  // thread's malloc arena grow and trim on every call (~50 page faults a call at NE=6 NB=10)
+  struct Workspace {
+    MatrixXd X, XI, IX, xq[3], xsq[3], xtq[3], dq[3];
+  };
+  thread_local Workspace ws;
+  MatrixXd &X = ws.X, &XI = ws.XI, &IX = ws.IX;
+  MatrixXd *xq = ws.xq, *xsq = ws.xsq, *xtq = ws.xtq, *dq = ws.dq;
+  X.resize(nb, nb);
   for (int k = 0; k < 3; ++k) {
     for (int j = 0; j < nb; ++j)
       for (int i = 0; i < nb; ++i) X(i, j) = x(k, e * nb2 + j * nb + i);
-    const MatrixXd XI = X * I.transpose();
+    XI.noalias() = X * I.transpose();
     xq[k].noalias() = I * XI;
     xsq[k].noalias() = Id * XI;
-    xtq[k].noalias() = I * X * Id.transpose();
+    IX.noalias() = I * X;
+    xtq[k].noalias() = IX * Id.transpose();
     if (uses_density(M)) {
       for (int j = 0; j < nb; ++j)
         for (int i = 0; i < nb; ++i) X(i, j) = (*dens)(k, e * nb2 + j * nb + i);
-      dq[k].noalias() = I * X * I.transpose();
+      IX.noalias() = I * X;
+      dq[k].noalias() = IX * I.transpose();
     }
   }
   double ls = 0, lt = 0;

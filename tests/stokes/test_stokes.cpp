@@ -94,8 +94,10 @@ SphereErrors sphere_errors(int ne, int nb, bool all) {
     const Vector3d u = -v.col(k) / (8 * kPi);
     e.tr[ty] = std::max(e.tr[ty], (u - U).cwiseAbs().maxCoeff());
   }
-  std::printf("NE=%d NB=%d (%zu targets, normal jump at edges %.1e)  type: interior / next-to-edge / edge / corner\n", ne, nb, t.size(),
-              max_normal_jump(mesh, x));
+  std::printf(
+      "NE=%d NB=%d (%zu targets, normal jump at edges %.1e)  type: interior / next-to-edge / edge "
+      "/ corner\n",
+      ne, nb, t.size(), max_normal_jump(mesh, x));
   std::printf("  |INT S.n|          %.2e %.2e %.2e %.2e\n", e.sn[0], e.sn[1], e.sn[2], e.sn[3]);
   std::printf("  |INT T.n + 4pi I|  %.2e %.2e %.2e %.2e\n", e.tn[0], e.tn[1], e.tn[2], e.tn[3]);
   std::printf("  |INT S - 16pi/3 I| %.2e %.2e %.2e %.2e\n", e.s[0], e.s[1], e.s[2], e.s[3]);
@@ -103,7 +105,9 @@ SphereErrors sphere_errors(int ne, int nb, bool all) {
   return e;
 }
 
-double maxof(const double* a) { return std::max(std::max(a[0], a[1]), std::max(a[2], a[3])); }
+double maxof(const double* a) {
+  return std::max(std::max(a[0], a[1]), std::max(a[2], a[3]));
+}
 
 }  // namespace
 
@@ -143,19 +147,32 @@ void check_sphere(int ne, int nb, double tol_exact, double tol_tn = 1e-8) {
 }
 }  // namespace
 
-TEST(StokesSphere, IdentitiesNE6NB12) { check_sphere(6, 12, 1e-6); }
-TEST(StokesSphere, IdentitiesNE10NB12) { check_sphere(10, 12, 1e-6); }
-TEST(StokesSphere, IdentitiesNE14NB12) { check_sphere(14, 12, 1e-6); }
-TEST(StokesSphere, IdentitiesNE6NB16) { check_sphere(6, 16, 1e-9); }
-TEST(StokesSphere, IdentitiesNE10NB16) { check_sphere(10, 16, 1e-9); }
-TEST(StokesSphere, IdentitiesNE14NB16) { check_sphere(14, 16, 1e-9); }
+TEST(StokesSphere, IdentitiesNE6NB12) {
+  check_sphere(6, 12, 1e-6);
+}
+TEST(StokesSphere, IdentitiesNE10NB12) {
+  check_sphere(10, 12, 1e-6);
+}
+TEST(StokesSphere, IdentitiesNE14NB12) {
+  check_sphere(14, 12, 1e-6);
+}
+TEST(StokesSphere, IdentitiesNE6NB16) {
+  check_sphere(6, 16, 1e-9);
+}
+TEST(StokesSphere, IdentitiesNE10NB16) {
+  check_sphere(10, 16, 1e-9);
+}
+TEST(StokesSphere, IdentitiesNE14NB16) {
+  check_sphere(14, 16, 1e-9);
+}
 
 // The subset API gives the same values as the all-nodes API; off-surface points agree with
 // plain high-order Gauss; a point just inside the sphere still sees INT S dS = 16 pi/3 I.
 TEST(StokesApi, SubsetPointsAndGauss) {
   geometry::Mesh mesh(6, 8);
   stokes::BoundaryOperators op(mesh);
-  const Matrix3Xd x = geometry::map_points(mesh.reference(), geometry::ellipsoid_map(1.3, 0.8, 1.0));
+  const Matrix3Xd x =
+      geometry::map_points(mesh.reference(), geometry::ellipsoid_map(1.3, 0.8, 1.0));
   Matrix3Xd f(3, mesh.num_local());
   for (int m = 0; m < mesh.num_local(); ++m)
     f.col(m) = Vector3d(std::sin(x(0, m)), x(1, m) * x(2, m), std::exp(0.3 * x(0, m)));
@@ -197,16 +214,19 @@ TEST(StokesApi, ScaledOrdersMakeThePointPathAReference) {
   const stokes::QuadratureOptions q = stokes::scale_orders(r, {2.0, 1.5, 3.0});
   EXPECT_EQ(q.nq_far, 2 * r.nq_far);
   EXPECT_EQ(q.nq_mid, 2 * r.nq_mid);
+  EXPECT_EQ(q.single_nq_mid, 2 * r.single_nq_mid);
   EXPECT_EQ(q.n_edge, static_cast<int>(std::lround(1.5 * r.n_edge)));
   EXPECT_EQ(q.n_radial, static_cast<int>(std::lround(1.5 * r.n_radial)));
   EXPECT_EQ(q.n_edge_near, 3 * r.n_edge_near);
   EXPECT_EQ(q.n_radial_near, 3 * r.n_radial_near);
   EXPECT_EQ(q.n_radial_near_out, 3 * r.n_radial_near_out);
   EXPECT_EQ(q.near_factor, r.near_factor);
+  EXPECT_EQ(q.single_near_factor, r.single_near_factor);
   EXPECT_THROW(stokes::scale_orders(stokes::QuadratureOptions{}, {}), std::invalid_argument);
   EXPECT_THROW(stokes::scale_orders(r, {1.0, 0.0, 1.0}), std::invalid_argument);
 
-  const Matrix3Xd x = geometry::map_points(mesh.reference(), geometry::ellipsoid_map(1.6, 0.7, 1.0));
+  const Matrix3Xd x =
+      geometry::map_points(mesh.reference(), geometry::ellipsoid_map(1.6, 0.7, 1.0));
   Matrix3Xd f(3, mesh.num_local());
   for (int m = 0; m < mesh.num_local(); ++m)
     f.col(m) = Vector3d(std::sin(x(0, m)), x(1, m) * x(2, m), std::exp(0.3 * x(0, m)));

@@ -1,7 +1,7 @@
 // Accuracy of the default quadrature against a high-order reference, on deformed shapes
 // and octant targets (the planar-extension use in the time stepper). The reference uses the
 // same rules with every order raised (far, own edge/radial, near edge/radial), the near tier
-// widened (near_factor 1) and per-node rule selection switched off; the test asserts the
+// widened (near factors 1) and per-node rule selection switched off; the test asserts the
 // relative max error (over targets and components, relative to max |SL|) and prints it with the
 // time per application.
 #include <gtest/gtest.h>
@@ -47,6 +47,8 @@ stokes::QuadratureOptions reference_options(int nb) {
   o.n_radial_near_out = 2 * nb;
   o.nq_mid = 2 * nb + 12;
   o.near_factor = 1.0;
+  o.single_near_factor = 1.0;
+  o.single_nq_mid = 2 * nb + 12;
   o.own_tolerance = 0.0;  // fixed rules at every node
   return o;
 }
