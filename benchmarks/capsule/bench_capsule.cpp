@@ -20,17 +20,18 @@ constexpr double kCa = 0.45;
 struct Setup {
   geometry::Mesh mesh;
   capsule::Capsule cap;
-  Setup(int ne, int nb)
-      : mesh(ne, nb), cap(mesh, membrane::LawOptions{}, capsule::Flow::planar_extension()) {
+  Setup(int ne, int nb, geometry::Division division = geometry::Division::Cube)
+      : mesh(ne, nb, geometry::ElementMap::Equiangular, division),
+        cap(mesh, membrane::LawOptions{}, capsule::Flow::planar_extension()) {
     for (int k = 0; k < 100; ++k) cap.step(5e-3, [](double) { return kCa; });
   }
 };
 
-// One deformed state per (NE, NB), shared by the benchmarks.
-Setup& setup(int ne, int nb) {
-  static std::map<std::pair<int, int>, std::unique_ptr<Setup>> cache;
-  auto& s = cache[{ne, nb}];
-  if (!s) s = std::make_unique<Setup>(ne, nb);
+// One deformed state per (NE, NB, division), shared by the benchmarks.
+Setup& setup(int ne, int nb, geometry::Division division = geometry::Division::Cube) {
+  static std::map<std::tuple<int, int, int>, std::unique_ptr<Setup>> cache;
+  auto& s = cache[{ne, nb, static_cast<int>(division)}];
+  if (!s) s = std::make_unique<Setup>(ne, nb, division);
   return *s;
 }
 
@@ -49,6 +50,14 @@ void BM_Step(benchmark::State& st) {
 
 void BM_Velocity(benchmark::State& st) {
   Setup& s = setup(static_cast<int>(st.range(0)), static_cast<int>(st.range(1)));
+  omp_set_num_threads(static_cast<int>(st.range(2)));
+  for (auto _ : st) benchmark::DoNotOptimize(s.cap.velocity(s.cap.positions(), kCa));
+}
+
+// The velocity on the paper's box division (NE=10, the Milestone 8 branch benchmarks).
+void BM_VelocityBox(benchmark::State& st) {
+  Setup& s = setup(static_cast<int>(st.range(0)), static_cast<int>(st.range(1)),
+                   geometry::Division::Box);
   omp_set_num_threads(static_cast<int>(st.range(2)));
   for (auto _ : st) benchmark::DoNotOptimize(s.cap.velocity(s.cap.positions(), kCa));
 }
@@ -79,6 +88,12 @@ void args(benchmark::internal::Benchmark* b) {
 
 BENCHMARK(BM_Step)->Apply(args);
 BENCHMARK(BM_Velocity)->Apply(args);
+BENCHMARK(BM_VelocityBox)
+    ->ArgNames({"NE", "NB", "threads"})
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond)
+    ->Args({10, 12, 1})
+    ->Args({10, 12, 2});
 BENCHMARK(BM_VelocityFarNb3)->Apply(args);
 BENCHMARK(BM_Traction)->Apply(args);
 BENCHMARK_MAIN();
