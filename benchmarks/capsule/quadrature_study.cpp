@@ -7,9 +7,9 @@
 // n_radial nb + 4, near edge nb + 2, one near outer panel of nb points, mid order 2 nb + 4), or
 // a comma list of key=value over the defaults, keys: n_edge, n_radial_inner, n_radial,
 // own_split, own_grading, n_edge_near, n_radial_near, n_radial_near_out, near_out_panels,
-// near_split, near_factor, mid_factor, nq_far, nq_mid, single_near_factor, single_nq_mid.
-// Usage: quadrature_study [--check-ref K] RUN_DIR|CKPT VARIANT...
-// Used for docs/performance.md ("Own and near radial rules").
+// near_split, near_factor, mid_factor, nq_far, nq_mid, single_near_factor, single_nq_mid,
+// single_mid_split. Usage: quadrature_study [--check-ref K] RUN_DIR|CKPT VARIANT... Used for
+// docs/performance.md ("Own and near radial rules").
 #include <omp.h>
 
 #include <algorithm>
@@ -60,6 +60,7 @@ stokes::QuadratureOptions variant(const std::string& spec, const stokes::Quadrat
       {"near_split", &Q::near_split},
       {"near_factor", &Q::near_factor},
       {"single_near_factor", &Q::single_near_factor},
+      {"single_mid_split", &Q::single_mid_split},
       {"mid_factor", &Q::mid_factor}};
   std::stringstream ss(spec);
   std::string item;

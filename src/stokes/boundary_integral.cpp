@@ -33,7 +33,7 @@ QuadratureOptions resolve_defaults(const geometry::Mesh& mesh, QuadratureOptions
   // Gauss points beyond: the same accuracy on the sphere identities and the deformed shapes of
   // tests/stokes at 11-24 % less time per call (docs/performance.md).
   if (opt.single_nq_mid <= 0) opt.single_nq_mid = 4 * nb + 4;
-  if (!(opt.single_near_factor > 0.0 && opt.near_factor > 0.0))
+  if (!(opt.single_near_factor > 0.0 && opt.near_factor > 0.0 && opt.single_mid_split >= 0.0))
     throw std::invalid_argument("BoundaryOperators: near factors must be positive");
   // Elongated elements (NE=14 rows: 30 x 90 degrees) stretch the sinh-mapped edge coordinate
   // over a longer physical length; with the square-element orders their next-to-edge nodes miss
@@ -104,8 +104,10 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
   // ---- far-field data at Gauss points (per call: depends on the geometry) ----
   // Two orders: nq_far for elements at distance >= mid_factor * size, nq_mid between
   // near_factor * size and that (the single layer: single_nq_mid from single_near_factor).
-  const int mid_tier = M == Mode::Single ? 2 : 1;
-  const double near_factor = M == Mode::Single ? opt_.single_near_factor : opt_.near_factor;
+  const bool single = M == Mode::Single;
+  const double near_factor = single ? opt_.single_near_factor : opt_.near_factor;
+  // the single layer's inner mid tier (2) below single_mid_split, the mid tier (1) beyond
+  const double split = single ? opt_.single_mid_split : 0.0;
   // Single layer with interpolate_jf: the special rules interpolate g = J f from its nodal
   // values (J = |x_xi x x_eta| at the nodes from the differentiation matrix).
   const bool jf = M == Mode::Single && opt_.interpolate_jf;
@@ -139,17 +141,18 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
   if (cheb && static_cast<int>(cheb_tls.size()) < ne) cheb_tls.resize(ne);
   std::vector<ChebElement>& ce = cheb_tls;
   FarData* const far = far_tls;  // the calling thread's buffers, shared with the team below
-  for (int tier : {0, mid_tier}) {
+  const int ntiers = single ? 3 : 2;
+  for (int tier = 0; tier < ntiers; ++tier) {
     far[tier].nq = static_cast<int>(far_basis_[tier].w.size());
     far[tier].d.resize(10, ne * far[tier].nq * far[tier].nq);
   }
   // one task per (tier, element): the far data is ~5 % of a call, serial it left a core idle
 #pragma omp parallel for schedule(dynamic, 1)
-  for (int task = 0; task < 2 * ne; ++task) {
-    const int tier = task < ne ? 0 : mid_tier, e = task % ne;
+  for (int task = 0; task < ntiers * ne; ++task) {
+    const int tier = task / ne, e = task % ne;
     const FarBasis& fb = far_basis_[tier];
     far_data<M>(mesh, x, dens, fb.w, fb.I, fb.Id, e, far[tier], tier == 0 ? &esize[e] : nullptr);
-    if (cheb && tier != 0) chebyshev_element(nb, K, cheb_, x, dens, e * nb2, ce[e]);
+    if (cheb && tier == 1) chebyshev_element(nb, K, cheb_, x, dens, e * nb2, ce[e]);
   }
   for (int e = 0; e < ne; ++e) {
     Vector3d cen = x.middleCols(e * nb2, nb2).rowwise().mean();
@@ -203,7 +206,7 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
       for (int e = 0; e < ne; ++e) {
         if (own[e]) continue;
         bool near = false;
-        int tier = 0;  // far order: 0 nq_far, else mid_tier
+        int tier = 0;  // far order: 0 nq_far, 1 nq_mid, 2 single_nq_mid
         geometry::NearestPoint np;
         const double crit = near_factor * esize[e];
         const double crit_mid = opt_.mid_factor * esize[e];
@@ -211,7 +214,7 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
           np = geometry::nearest_point(mesh, x, e, x0);
           ++searches;
           near = np.h < crit;
-          tier = np.h < crit_mid ? mid_tier : 0;
+          tier = np.h < crit_mid ? (np.h < split * esize[e] ? 2 : 1) : 0;
         }
         if (near) {
           ++near_elements;

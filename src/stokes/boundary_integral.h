@@ -104,9 +104,11 @@ struct QuadratureOptions {
   // The single layer's tiers (its 1/r kernel needs the near rules closer to the surface than
   // the 1/r^2 of the double layer and INT T.n; measured on the sphere identities and deformed
   // shapes, docs/performance.md): near when dist < single_near_factor * size(E), then Gauss
-  // with single_nq_mid points per direction up to mid_factor * size(E).
+  // with single_nq_mid points per direction up to single_mid_split * size(E), nq_mid up to
+  // mid_factor * size(E).
   double single_near_factor = 0.1;
   int single_nq_mid = 0;  // 0 -> 4 nb + 4
+  double single_mid_split = 0.2;
   // > 0: per-node own rules (fewest points within this relative tolerance of a (3nb, 2nb+4)
   // rule; cached per mesh type). Off by default: at 3e-9 it removes 40-45 % of the own points
   // but misses the 1e-8 INT T.n identity at NE=10 NB=12 and takes seconds at NE=14.
