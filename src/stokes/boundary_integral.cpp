@@ -154,12 +154,24 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
     far_data<M>(mesh, x, dens, fb.w, fb.I, fb.Id, e, far[tier], tier == 0 ? &esize[e] : nullptr);
     if (cheb && tier == 1) chebyshev_element(nb, K, cheb_, x, dens, e * nb2, ce[e]);
   }
+  // cell[e]: a bound on the distance from any point of element e to its nearest node, 0.6 x
+  // the longest diagonal of a cell of four neighbouring nodes (a point of a cell is within half
+  // its diagonal of a corner; the margin covers the curvature between the nodes)
+  std::vector<double> cell(ne);
   for (int e = 0; e < ne; ++e) {
     Vector3d cen = x.middleCols(e * nb2, nb2).rowwise().mean();
     double rad = 0;
     for (int k = 0; k < nb2; ++k) rad = std::max(rad, (x.col(e * nb2 + k) - cen).norm());
     centre[e] = cen;
     radius[e] = rad;
+    double diag = 0;
+    for (int j = 0; j + 1 < nb; ++j)
+      for (int i = 0; i + 1 < nb; ++i) {
+        const int q = e * nb2 + j * nb + i;
+        diag = std::max(diag, std::max((x.col(q) - x.col(q + nb + 1)).norm(),
+                                       (x.col(q + 1) - x.col(q + nb)).norm()));
+      }
+    cell[e] = 0.6 * diag;
   }
 
   const int max_near_lines = max_near_lines_, max_lines = max_lines_, max_line = max_line_;
@@ -211,10 +223,24 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
         const double crit = near_factor * esize[e];
         const double crit_mid = opt_.mid_factor * esize[e];
         if ((x0 - centre[e]).norm() - radius[e] < crit_mid) {
-          np = geometry::nearest_point(mesh, x, e, x0);
-          ++searches;
-          near = np.h < crit;
-          tier = np.h < crit_mid ? (np.h < split * esize[e] ? 2 : 1) : 0;
+          // The distance h of x0 to the element lies in [d - cell, d], d the distance to the
+          // nearest node: the nearest point is searched only when h may be below crit (the
+          // near rule needs it) or the interval straddles a tier's threshold.
+          double d2 = 1e300;
+          for (int q = e * nb2; q < (e + 1) * nb2; ++q)
+            d2 = std::min(d2, (x.col(q) - x0).squaredNorm());
+          const double d = std::sqrt(d2), lo = d - cell[e];
+          const double thresholds[2] = {split * esize[e], crit_mid};
+          bool decided = lo >= crit;
+          for (double th : thresholds) decided = decided && (th <= 0.0 || lo >= th || d < th);
+          if (decided) {
+            tier = d < crit_mid ? (d < split * esize[e] ? 2 : 1) : 0;
+          } else {
+            np = geometry::nearest_point(mesh, x, e, x0);
+            ++searches;
+            near = np.h < crit;
+            tier = np.h < crit_mid ? (np.h < split * esize[e] ? 2 : 1) : 0;
+          }
         }
         if (near) {
           ++near_elements;
