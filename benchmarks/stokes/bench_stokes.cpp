@@ -34,6 +34,9 @@ void report(benchmark::State& st, const stokes::OperatorStats& s) {
   st.counters["own%"] = 100.0 * s.own_pairs / pairs;
   st.counters["near%"] = 100.0 * s.near_pairs / pairs;
   st.counters["far%"] = 100.0 * s.far_pairs / pairs;
+  if (s.flops > 0)
+    st.counters["flops"] =
+        benchmark::Counter(s.flops * st.iterations(), benchmark::Counter::kIsRate);
   st.counters["near/target"] = static_cast<double>(s.near_elements) / s.targets;
   st.counters["searches/target"] = static_cast<double>(s.searches) / s.targets;
 }
@@ -72,8 +75,38 @@ void BM_SingleLayerOctant(benchmark::State& st) {
   report(st, stats);
 }
 
+// This machine's double-precision peak as code can reach it: 12 independent chains of 4-wide
+// fused multiply-adds (x86-64-v3 and v4 clones, GCC vector extension) per thread, long enough
+// to hide the FMA latency; flops counts 2 per lane per FMA. The reference for the fraction of
+// peak of the counted single-layer flops (OperatorStats::flops).
+typedef double v4d __attribute__((vector_size(32)));
+__attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default"), noinline)) double
+fma_chains(long n) {
+  v4d a[12];
+  for (int k = 0; k < 12; ++k) a[k] = v4d{1.0 + k * 1e-3, 1.0, 1.0, 1.0};
+  const v4d m = {0.999999, 0.999999, 0.999999, 0.999999}, c = {1e-6, 1e-6, 1e-6, 1e-6};
+  for (long i = 0; i < n; ++i)
+    for (int k = 0; k < 12; ++k) a[k] = a[k] * m + c;
+  double s = 0;
+  for (int k = 0; k < 12; ++k) s += a[k][0] + a[k][1] + a[k][2] + a[k][3];
+  return s;
+}
+void BM_PeakFma(benchmark::State& st) {
+  const int threads = static_cast<int>(st.range(0));
+  constexpr long kIter = 1 << 20;
+  for (auto _ : st) {
+    double s = 0;
+#pragma omp parallel num_threads(threads) reduction(+ : s)
+    s += fma_chains(kIter);
+    benchmark::DoNotOptimize(s);
+  }
+  st.counters["flops"] = benchmark::Counter(2.0 * 4 * 12 * kIter * threads * st.iterations(),
+                                            benchmark::Counter::kIsRate);
+}
+
 }  // namespace
 
+BENCHMARK(BM_PeakFma)->ArgName("threads")->Arg(1)->Arg(2)->UseRealTime();
 BENCHMARK(BM_SingleLayer)
     ->ArgNames({"NE", "NB", "threads"})
     ->ArgsProduct({{6, 10, 14}, {8, 10, 12, 14}, {1, 2}})

@@ -16,6 +16,15 @@ namespace capflow::stokes {
 using Eigen::Vector3d;
 using Eigen::VectorXd;
 
+namespace {
+// The single layer's counted flops over a special rule (OperatorStats::flops).
+double single_rule_flops(int nb, const LineRule& r) {
+  const auto pad8 = [](int n) { return (n + 7) & ~7; };
+  return static_cast<double>(r.nl()) * (2.0 * nb * (pad8(6 * nb) + pad8(3 * nb)) + 3.0 * nb) +
+         static_cast<double>(r.np()) * (28.0 * nb + 36.0);
+}
+}  // namespace
+
 QuadratureOptions resolve_defaults(const geometry::Mesh& mesh, QuadratureOptions opt) {
   const int nb = mesh.nb();
   if (nb > kMaxNb) throw std::invalid_argument("BoundaryOperators: nb too large");
@@ -177,7 +186,9 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
   const int max_near_lines = max_near_lines_, max_lines = max_lines_, max_line = max_line_;
 
   long far_pairs = 0, own_pairs = 0, near_pairs = 0, near_elements = 0, searches = 0;
-#pragma omp parallel reduction(+ : far_pairs, own_pairs, near_pairs, near_elements, searches)
+  double line_flops = 0;
+#pragma omp parallel reduction(+ : far_pairs, own_pairs, near_pairs, near_elements, searches, \
+                                   line_flops)
   {
     thread_local Scratch sc;  // per OpenMP thread, kept across calls (see far above)
     size_scratch(sc, nb, max_lines);
@@ -211,6 +222,7 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
           else
             line_sum<M>(nb, K, r, sign, x0, u0, sc, acc);
           own_pairs += r.np();
+          if (M == Mode::Single) line_flops += single_rule_flops(nb, r);
         }
       } else {
         x0 = point_targets->col(k);
@@ -271,6 +283,7 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
           else
             line_sum<M>(nb, K, sc.near, 1.0, x0, u0, sc, acc);
           near_pairs += sc.near.np();
+          if (M == Mode::Single) line_flops += single_rule_flops(nb, sc.near);
         } else {
           const FarData& fd = far[tier];
           const int nqe = fd.nq * fd.nq;
@@ -288,6 +301,7 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
   stats.near_pairs = near_pairs;
   stats.near_elements = near_elements;
   stats.searches = searches;
+  if (M == Mode::Single) stats.flops = line_flops + 31.0 * static_cast<double>(far_pairs);
   return stats;
 }
 

@@ -138,6 +138,13 @@ struct OperatorStats {
   long near_pairs = 0;     // near-singular points
   long near_elements = 0;  // (target, element) pairs treated as near
   long searches = 0;       // nearest-point searches (near and mid tier candidates)
+  // Single layer: the floating-point operations of its kernel sums, counted from the code of the
+  // hot loops (line_sums.cpp single_line and stage1, far_field.cpp far_single; an FMA is 2, a
+  // square root or division 1): per special point 28 nb + 36 (stage 2 with the Chebyshev
+  // recurrences and the kernel), per line 2 nb (pad8(6 nb) + pad8(3 nb)) + 3 nb (stage 1), per
+  // far point 31. The set-up work (far data, nearest points, rules) is not counted. 0 for the
+  // other modes.
+  double flops = 0;
   long pairs() const { return far_pairs + own_pairs + near_pairs; }
 };
 
