@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <stdexcept>
 
 #include "spectral/spectral.h"
 #include "spectral/target_clones.h"
@@ -263,8 +264,11 @@ void stage1(int nb, int nl, int Kn, int n3, const double* Lc, const double* dLc,
 // Stage 1: for every line, the 1-D interpolation across the lines (dense products
 // Lc^T D: lines x (K nb)); stage 2: per point, length-nb dot products along the line.
 template <Mode M>
-void line_sum(int nb, int K, const LineRule& R, double sign, const Vector3d& x0, const Vector3d& u0,
-              Scratch& sc, double* acc) {
+void line_sum(int nb, int K_arg, const LineRule& R, double sign, const Vector3d& x0,
+              const Vector3d& u0, Scratch& sc, double* acc) {
+  // the number of interpolated quantities is the mode's (a constant for the compiler)
+  constexpr int K = uses_density(M) ? 6 : 3;
+  if (K_arg != K) throw std::invalid_argument("line_sum: K does not match the mode");
   const int nl = R.nl(), n0 = R.n0, n1 = nl - n0;
   const int Kn = K * nb, n3 = 3 * nb;
   size_lines(sc, nb, nl);
