@@ -5,13 +5,13 @@
 // under the step map Phi_h (classical RK4 at the control file's Ca, then the capsule's
 // end-of-step smoothing, as `capflow run` steps with a fixed time.dt): rho(h), the spectral
 // radius of dPhi_h/dx, estimated by 40 Arnoldi steps (difference quotients). The limit h* is
-// where rho crosses 1 + 2h (above the flow's own growth, see unstable()): bracketed by doubling from Ca dx_min (the paper's eq. 16) and
-// bisected to 4 %. Prints one table row:
+// where rho crosses 1 + 2h (above the flow's own growth, see unstable()): bracketed by doubling
+// from Ca dx_min (the paper's eq. 16) and bisected to 4 %. Prints one table row:
 //   law NE division NB Ca state dx_min h* h*/(Ca dx_min) evaluations
 // Usage: stability_limits CONTROL.json   (the mesh, law, flow, Ca = the first level)
+#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <cstdio>
-#include <Eigen/Eigenvalues>
 #include <random>
 #include <string>
 
@@ -29,17 +29,13 @@ constexpr int kKrylov = 40;
 constexpr double kRelativeSize = 1e-7;
 // Growth per step that counts as unstable: above the physical growth of the flow (a translation
 // along the extension axis grows as e^{G t}: 1 + h per step), 1 + 2h.
-double unstable(double h) { return 1 + 2 * h; }
+double unstable(double h) {
+  return 1 + 2 * h;
+}
 
 Eigen::Matrix3Xd rk4_step(const capsule::Capsule& cap, const Eigen::Matrix3Xd& x, double ca,
                           double h) {
-  const Eigen::Matrix3Xd k1 = cap.velocity(x, ca);
-  const Eigen::Matrix3Xd k2 = cap.velocity(x + 0.5 * h * k1, ca);
-  const Eigen::Matrix3Xd k3 = cap.velocity(x + 0.5 * h * k2, ca);
-  const Eigen::Matrix3Xd k4 = cap.velocity(x + h * k3, ca);
-  Eigen::Matrix3Xd x1 = x + (h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
-  cap.finish_step(&x1);
-  return x1;
+  return cap.rk4_step(x, 0.0, h, [ca](double) { return ca; });
 }
 
 // The spectral radius of the step map's linearisation M = dPhi_h/dx at x: the largest modulus
@@ -120,11 +116,12 @@ int main(int argc, char** argv) {
       (growth(cap, x, ca, mid) > unstable(mid) ? hi : lo) = mid;
     }
     const double limit = 0.5 * (lo + hi);
-    std::printf("%-12s NE=%-2d %-8s NB=%-2d Ca=%-5g %-14s dx_min %.5f  h* %.5f  h*/(Ca dx_min) %.3f"
-                "  evaluations %ld\n",
-                membrane::to_string(o.law.kind).c_str(), o.mesh.elements,
-                control::division_name(o.mesh.division), o.mesh.nb, ca, state.c_str(), dx, limit,
-                limit / (ca * dx), cap.velocity_evaluations());
+    std::printf(
+        "%-12s NE=%-2d %-8s NB=%-2d Ca=%-5g %-14s dx_min %.5f  h* %.5f  h*/(Ca dx_min) %.3f"
+        "  evaluations %ld\n",
+        membrane::to_string(o.law.kind).c_str(), o.mesh.elements,
+        control::division_name(o.mesh.division), o.mesh.nb, ca, state.c_str(), dx, limit,
+        limit / (ca * dx), cap.velocity_evaluations());
   } catch (const std::exception& e) {
     std::fprintf(stderr, "stability_limits: %s\n", e.what());
     return 1;

@@ -94,7 +94,8 @@ void Capsule::set_state(const Eigen::Matrix3Xd& x, double t, long steps) {
   steps_ = steps;
 }
 
-void Capsule::tangents(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* t1, Eigen::Matrix3Xd* t2) const {
+void Capsule::tangents(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* t1,
+                       Eigen::Matrix3Xd* t2) const {
   if (opt_.smooth_geometry && opt_.smoothing == SmoothingMethod::HermiteDerivatives) {
     hermite_derivatives(mesh_, ref_basis_, x, t1, t2);
   } else {
@@ -149,15 +150,20 @@ Eigen::Matrix3Xd Capsule::velocity_full(const Eigen::Matrix3Xd& x, double ca) co
   return velocity_impl(x, ca, false);
 }
 
+Eigen::Matrix3Xd Capsule::rk4_step(const Eigen::Matrix3Xd& x0, double t, double dt,
+                                   const CaFunction& ca) const {
+  const Eigen::Matrix3Xd k1 = velocity(x0, ca(t));
+  const Eigen::Matrix3Xd k2 = velocity(x0 + 0.5 * dt * k1, ca(t + 0.5 * dt));
+  const Eigen::Matrix3Xd k3 = velocity(x0 + 0.5 * dt * k2, ca(t + 0.5 * dt));
+  const Eigen::Matrix3Xd k4 = velocity(x0 + dt * k3, ca(t + dt));
+  Eigen::Matrix3Xd x = x0 + (dt / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+  finish_step(&x);
+  return x;
+}
+
 void Capsule::step(double dt, const CaFunction& ca) {
   const double t = t_;
-  const Eigen::Matrix3Xd k1 = velocity(x_, ca(t));
-  const Eigen::Matrix3Xd k2 = velocity(x_ + 0.5 * dt * k1, ca(t + 0.5 * dt));
-  const Eigen::Matrix3Xd k3 = velocity(x_ + 0.5 * dt * k2, ca(t + 0.5 * dt));
-  const Eigen::Matrix3Xd k4 = velocity(x_ + dt * k3, ca(t + dt));
-  Eigen::Matrix3Xd x = x_ + (dt / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
-  finish_step(&x);
-  accept_step(x, t + dt);
+  accept_step(rk4_step(x_, t, dt, ca), t + dt);
 }
 
 void Capsule::finish_step(Eigen::Matrix3Xd* x) const {

@@ -46,11 +46,11 @@ enum class SymmetryChoice { Auto, None };
 enum class SmoothingMethod { HermiteDerivatives, NodalReconstruction };
 
 struct DynamicsOptions {
-  double viscosity_ratio = 1.0;   // lambda; only 1 is implemented (constructor refuses others)
-  bool smooth_geometry = true;    // paper's first-order smoothing of x after each step
-  bool smooth_traction = true;    // ... and of f before each use
+  double viscosity_ratio = 1.0;  // lambda; only 1 is implemented (constructor refuses others)
+  bool smooth_geometry = true;   // paper's first-order smoothing of x after each step
+  bool smooth_traction = true;   // ... and of f before each use
   SmoothingMethod smoothing = SmoothingMethod::HermiteDerivatives;
-  bool volume_correction = false; // paper eq. 23
+  bool volume_correction = false;                  // paper eq. 23
   SymmetryChoice symmetry = SymmetryChoice::Auto;  // Auto: octant (planar ext.), quarter (shear)
   stokes::QuadratureOptions quadrature;
   // Factor on every order of `quadrature` after its defaults are resolved for the mesh
@@ -60,7 +60,8 @@ struct DynamicsOptions {
 
 // The rules a Capsule with these options uses: options.quadrature with its defaults resolved for
 // the mesh, times options.quadrature_scale (std::invalid_argument outside [1, 4]).
-stokes::QuadratureOptions quadrature_rules(const geometry::Mesh& mesh, const DynamicsOptions& options);
+stokes::QuadratureOptions quadrature_rules(const geometry::Mesh& mesh,
+                                           const DynamicsOptions& options);
 
 class Capsule {
  public:
@@ -103,6 +104,11 @@ class Capsule {
 
   // One RK4 step of size dt with Ca(t); then finish_step.
   void step(double dt, const CaFunction& ca);
+  // The state one classical RK4 step of size dt after x (at time t, Ca(t) at the stages),
+  // finished (finish_step); the capsule's own state is not changed. What step() takes, and the
+  // step map of the steady solver and the stability study.
+  Eigen::Matrix3Xd rk4_step(const Eigen::Matrix3Xd& x, double t, double dt,
+                            const CaFunction& ca) const;
   // What ends every step: smoothing of x (options().smooth_geometry) and the optional volume
   // correction. Used by step() and by the adaptive stepper (capsule/adaptive_stepper.h).
   void finish_step(Eigen::Matrix3Xd* x) const;

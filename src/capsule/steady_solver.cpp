@@ -38,13 +38,7 @@ class StepMap {
   // F(y) = (P(Phi_h(E y)) - E y)|targets / h.
   Eigen::VectorXd residual(const Eigen::VectorXd& y, double ca) const {
     if (!(ca > 0)) throw std::domain_error("Ca <= 0 in the Newton iteration");
-    const Eigen::Matrix3Xd x = expand(y);
-    const Eigen::Matrix3Xd k1 = cap_.velocity(x, ca);
-    const Eigen::Matrix3Xd k2 = cap_.velocity(x + 0.5 * h_ * k1, ca);
-    const Eigen::Matrix3Xd k3 = cap_.velocity(x + 0.5 * h_ * k2, ca);
-    const Eigen::Matrix3Xd k4 = cap_.velocity(x + h_ * k3, ca);
-    Eigen::Matrix3Xd x1 = x + (h_ / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
-    cap_.finish_step(&x1);
+    Eigen::Matrix3Xd x1 = cap_.rk4_step(expand(y), 0.0, h_, [ca](double) { return ca; });
     x1 = rescale_to_volume(cap_.mesh(), x1, cap_.initial_volume());
     return (reduce(x1) - y) / h_;
   }
