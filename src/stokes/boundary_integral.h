@@ -34,19 +34,25 @@
 //    polynomial part far from p*). `n_edge_near` points in tau. Recomputed per call.
 //    (The single layer: single_near_factor and single_nq_mid instead of near_factor, nq_mid.)
 //  * far elements: Gauss-Legendre, nq_mid x nq_mid for near_factor <= h/size < mid_factor
-//    (h from the Newton above), nq_far x nq_far beyond (bounding-sphere test).
+//    (h from the Newton above), nq_far x nq_far beyond (bounding-sphere test). The Newton
+//    search runs only where the nearest node does not decide the tier (h lies within a cell
+//    diagonal of that node's distance).
 // Every special rule is a set of "lines": for a fixed u, the points of the two triangles on
 // one edge share the coordinate perpendicular to that edge (constant s for the edges
 // s = +-1, constant t for t = +-1). Interpolation is done in two stages: per line, the 1-D
 // interpolation across the lines (element data nb x 6nb times the 1-D bases: x, f and
-// d/d(across) x), then per point length-nb dot products along the line (x, f, d/d(along) x
-// and d/d(across) x), i.e. ~12 nb multiply-adds per point instead of ~9 nb^2. The single-layer
-// hot loops (stage 1, stage 2 + kernel in blocks of 4 points, far sums) are compiled for
-// x86-64-v4, x86-64-v3 and the baseline and chosen at load time.
-// Options: own_tolerance > 0 selects the own rule per canonical node (fewest points meeting
-// the tolerance against a high-order rule on the sphere and an ellipsoid; own_rules.h);
-// interpolate_jf interpolates J f from its nodal values (6 values per point instead of 12:
-// ~1.8x faster, but it changes the discrete operator by ~1e-5 relative at NB=10).
+// d/d(across) x), then per point length-nb sums along the line (x, f, d/d(along) x and
+// d/d(across) x), i.e. ~12 nb multiply-adds per point instead of ~9 nb^2. The single layer
+// holds the element data along the lines in Chebyshev coefficients and evaluates T_k, T_k' at
+// each point by recurrences (no per-point bases); the other modes use Lagrange bases (stored
+// with the own rules, made per call for the near ones), which keep the double layer's
+// near-singular r.n accurate where the Chebyshev sum would lose digits (line_sums.h). The
+// single-layer hot loops (stage 1, stage 2 + kernel in blocks of 4 points, far sums) are compiled
+// for x86-64-v4, x86-64-v3 and the baseline and chosen at load time. Options: own_tolerance > 0
+// selects the own rule per canonical node (fewest points meeting the tolerance against a high-order
+// rule on the sphere and an ellipsoid; own_rules.h); interpolate_jf interpolates J f from its nodal
+// values (6 values per point instead of 12: ~1.8x faster, but it changes the discrete operator by
+// ~1e-5 relative at NB=10).
 //
 // Threading: every call runs an OpenMP loop over targets (omp_get_max_threads threads; the
 // caller limits with omp_set_num_threads). Objects are immutable after construction and

@@ -30,7 +30,10 @@ struct Scratch {
 // column c nb + k = the k-th coefficient in s of X_c(s, t_j) (X_c: x, then the density if K = 6).
 // Stage 2 then evaluates T_k and T_k' = k U_{k-1} by their recurrences at each point instead of
 // Lagrange bases (no per-point basis evaluation for the near rules, no stored point bases read
-// for the own rules).
+// for the own rules). The other modes keep nodal data and Lagrange bases: the double layer's
+// r.n cancels to O(r^2) next to the target, and x(p) - x0 keeps its digits there only with bases
+// that reproduce the nodal value at the node (in Chebyshev form INT T.n = -4 pi I lost about a
+// decade, docs/performance.md).
 struct ChebElement {
   RowMat cs, ct;
 };
