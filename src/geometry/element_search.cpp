@@ -64,16 +64,19 @@ ElementMinimum minimise_on_element(const ElementEvaluator& ev, const QuadraticOf
   return {s, t, p, f};
 }
 
-NearestPoint nearest_point(const Mesh& mesh, const Eigen::Matrix3Xd& x, int e, const Vector3d& x0) {
+NearestPoint nearest_point(const Mesh& mesh, const Eigen::Matrix3Xd& x, int e, const Vector3d& x0,
+                           int start_node) {
   const int nb = mesh.nb();
   const int base = e * nb * nb;
-  int best = 0;
-  double bd = 1e300;
-  for (int k = 0; k < nb * nb; ++k) {
-    const double d = (x.col(base + k) - x0).squaredNorm();
-    if (d < bd) {
-      bd = d;
-      best = k;
+  int best = start_node;
+  if (best < 0) {
+    double bd = 1e300;
+    for (int k = 0; k < nb * nb; ++k) {
+      const double d = (x.col(base + k) - x0).squaredNorm();
+      if (d < bd) {
+        bd = d;
+        best = k;
+      }
     }
   }
   const ElementEvaluator ev(mesh, x);

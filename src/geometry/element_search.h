@@ -48,7 +48,9 @@ struct NearestPoint {
   double s = 0, t = 0, h = 0;
   Eigen::Vector3d xs, xt;
 };
+// start_node: the element's nearest node (local index 0..nb^2-1) when the caller has it, -1 to
+// search for it.
 NearestPoint nearest_point(const Mesh& mesh, const Eigen::Matrix3Xd& x, int e,
-                           const Eigen::Vector3d& x0);
+                           const Eigen::Vector3d& x0, int start_node = -1);
 
 }  // namespace capflow::geometry

@@ -161,6 +161,7 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
     const int tier = task / ne, e = task % ne;
     const FarBasis& fb = far_basis_[tier];
     far_data<M>(mesh, x, dens, fb.w, fb.I, fb.Id, e, far[tier], tier == 0 ? &esize[e] : nullptr);
+    // the Chebyshev element data once per element, with the tier every mode computes
     if (cheb && tier == 1) chebyshev_element(nb, K, cheb_, x, dens, e * nb2, ce[e]);
   }
   // cell[e]: a bound on the distance from any point of element e to its nearest node, 0.6 x
@@ -250,8 +251,14 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
           // nearest node: the nearest point is searched only when h may be below crit (the
           // near rule needs it) or the interval straddles a tier's threshold.
           double d2 = 1e300;
-          for (int q = e * nb2; q < (e + 1) * nb2; ++q)
-            d2 = std::min(d2, (x.col(q) - x0).squaredNorm());
+          int best = 0;
+          for (int q = 0; q < nb2; ++q) {
+            const double dq = (x.col(e * nb2 + q) - x0).squaredNorm();
+            if (dq < d2) {
+              d2 = dq;
+              best = q;
+            }
+          }
           const double d = std::sqrt(d2), lo = d - cell[e];
           const double thresholds[2] = {split * esize[e], crit_mid};
           bool decided = lo >= crit;
@@ -259,7 +266,7 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
           if (decided) {
             tier = d < crit_mid ? (d < split * esize[e] ? 2 : 1) : 0;
           } else {
-            np = geometry::nearest_point(mesh, x, e, x0);
+            np = geometry::nearest_point(mesh, x, e, x0, best);
             ++searches;
             near = np.h < crit;
             tier = np.h < crit_mid ? (np.h < split * esize[e] ? 2 : 1) : 0;
