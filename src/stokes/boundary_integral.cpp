@@ -89,7 +89,6 @@ BoundaryOperators::BoundaryOperators(const geometry::Mesh& mesh, QuadratureOptio
   // near rule: 4 edges x n_radial_near x panels (asinh(1/hu) <= asinh(1e14) < 6 * 6) lines
   max_near_lines_ = 4 * (opt_.n_radial_near * 6 + opt_.n_radial_near_out * opt_.near_out_panels);
   max_lines_ = std::max(max_near_lines_, own_.max_lines());
-  max_line_ = std::max(2 * opt_.n_edge_near, own_.max_line());
 }
 template <BoundaryOperators::Mode M>
 OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens,
@@ -184,7 +183,8 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
     cell[e] = 0.6 * diag;
   }
 
-  const int max_near_lines = max_near_lines_, max_lines = max_lines_, max_line = max_line_;
+  const int max_near_lines = max_near_lines_, max_lines = max_lines_;
+  const NodalBasis basis{mesh.nodes().data(), prod_w_.data(), mesh.diff().data()};
   // The targets in the order of their expected cost, the dearest first (dynamic scheduling then
   // ends with cheap targets instead of one thread finishing a dear one alone): node targets by
   // the size of their coincidence class (edge and corner nodes sum 2-4 own rules and more near
@@ -203,7 +203,6 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
   {
     thread_local Scratch sc;  // per OpenMP thread, kept across calls (see far above)
     size_scratch(sc, nb, max_lines);
-    sc.v.resize(12 * static_cast<size_t>(max_line + 4));
     sc.near.Lc.resize(nb, max_near_lines);
     sc.near.dLc.resize(nb, max_near_lines);
     std::vector<char> own(ne);
@@ -230,9 +229,9 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
           else
             load_element(nb, K, x, sdens, e * nb2, own_.permutation(sym), sc);
           if (jf)
-            line_sum_jf(nb, r, sign, x0, sc, acc);
+            line_sum_jf(nb, r, basis, x0, sc, acc);
           else
-            line_sum<M>(nb, K, r, sign, x0, u0, sc, acc);
+            line_sum<M>(nb, K, r, basis, sign, x0, u0, sc, acc);
           own_pairs += r.np();
           if (M == Mode::Single) line_flops += single_rule_flops(nb, r);
         }
@@ -291,15 +290,15 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
                              opt_.near_out_panels};
           polar_rule(np.s, np.t, hu, near_edge_, near_radial_, sc.near, ro);
           // the single layer evaluates the near rule's point bases line by line
-          fill_bases(mesh, prod_w_, sc.near, !cheb);  // no point bases for the single layer
+          fill_bases(mesh, sc.near);
           if (cheb)
             load_chebyshev(nb, K, ce[e], 0, sc);
           else
             load_element(nb, K, x, sdens, e * nb2, nullptr, sc);
           if (jf)
-            line_sum_jf(nb, sc.near, 1.0, x0, sc, acc);
+            line_sum_jf(nb, sc.near, basis, x0, sc, acc);
           else
-            line_sum<M>(nb, K, sc.near, 1.0, x0, u0, sc, acc);
+            line_sum<M>(nb, K, sc.near, basis, 1.0, x0, u0, sc, acc);
           near_pairs += sc.near.np();
           if (M == Mode::Single) line_flops += single_rule_flops(nb, sc.near);
         } else {

@@ -19,9 +19,9 @@
 //    points on [own_split, 1] in the fraction u (polar Jacobian u d ds du cancels 1/r;
 //    Muldowney & Higdon 1995).
 //    Points and weights depend only on p0, i.e. on the node's (i, j) in the element, so these
-//    rules and the Lagrange weights (1-D bases and derivatives) at their points are
-//    precomputed once per mesh (own_rules.h), for the (i, j) up to the 8 symmetries of the
-//    square (the element's nodal data are permuted instead).
+//    rules (with the 1-D bases across their lines) are precomputed once per mesh
+//    (own_rules.h), for the (i, j) up to the 8 symmetries of the square (the element's nodal
+//    data are permuted instead).
 //  * near elements (nearest point p* of E to x0 at distance h < near_factor * size(E), size =
 //    mean length of E's longer family of coordinate lines): p* by a projected Newton with an
 //    active set (a boundary coordinate whose gradient points outwards is held fixed), then the
@@ -44,11 +44,12 @@
 // d/d(across) x), then per point length-nb sums along the line (x, f, d/d(along) x and
 // d/d(across) x), i.e. ~12 nb multiply-adds per point instead of ~9 nb^2. The single layer
 // holds the element data along the lines in Chebyshev coefficients and evaluates T_k, T_k' at
-// each point by recurrences (no per-point bases); the other modes use Lagrange bases (stored
-// with the own rules, made per call for the near ones), which keep the double layer's
-// near-singular r.n accurate where the Chebyshev sum would lose digits (line_sums.h). The
-// single-layer hot loops (stage 1, stage 2 + kernel in blocks of 4 points, far sums) are compiled
-// for x86-64-v4, x86-64-v3 and the baseline and chosen at load time. Options: own_tolerance > 0
+// each point by recurrences (no per-point bases); the other modes use Lagrange bases along the
+// line, made at each point in registers by the product formula (none stored or read), which keep
+// the double layer's near-singular r.n accurate where the Chebyshev sum would lose digits
+// (line_sums.h). The hot loops (stage 1, stage 2 + kernel in blocks of 4 points for the single
+// layer and 8 for the others, far sums of the single layer) are compiled for x86-64-v4,
+// x86-64-v3 and the baseline and chosen at load time. Options: own_tolerance > 0
 // selects the own rule per canonical node (fewest points meeting the tolerance against a high-order
 // rule on the sphere and an ellipsoid; own_rules.h); interpolate_jf interpolates J f from its nodal
 // values (6 values per point instead of 12: ~1.8x faster, but it changes the discrete operator by
@@ -210,7 +211,7 @@ class BoundaryOperators {
   // The near rules' Gauss rules (along the edge, radial inner and outer part) and the scratch
   // sizes: lines of a near rule, lines of any rule, points of any line.
   spectral::Rule near_edge_, near_radial_, near_radial_out_;
-  int max_near_lines_ = 0, max_lines_ = 0, max_line_ = 0;
+  int max_near_lines_ = 0, max_lines_ = 0;
 };
 
 }  // namespace capflow::stokes

@@ -1,6 +1,6 @@
-// capflow/stokes/kernel_point: one quadrature point of the kernel sums of the identity checks and
-// the double layer (inline, shared by the special rules and the far field; the single layer has
-// its own vectorised loops in line_sums.cpp and far_field.cpp).
+// capflow/stokes/kernel_point: one far-field quadrature point of the kernel sums of the identity
+// checks and the double layer (inline; the special rules' loops in line_sums.cpp evaluate the same
+// kernels on 8 points at once, and the single layer has its own vectorised far loop).
 #pragma once
 
 #include <cmath>

@@ -56,8 +56,6 @@ void polar_rule(double s0, double t0, const double* hu, const spectral::Rule& ge
   R.set_start.assign(1, 0);
   R.off.clear();
   R.wedge.clear();
-  R.o.clear();
-  R.w.clear();
   R.n0 = -1;
   struct Edge {
     double fs, ft, d;
@@ -112,36 +110,13 @@ void polar_rule(double s0, double t0, const double* hu, const spectral::Rule& ge
   }
 }
 
-void expand_points(LineRule& R) {
-  R.o.resize(R.np());
-  R.w.resize(R.np());
-  for (int l = 0; l < R.nl(); ++l) {
-    const double *off = R.line_off(l), *wedge = R.line_wedge(l);
-    for (int j = 0, p = R.start[l]; p < R.start[l + 1]; ++j, ++p) {
-      R.o[p] = R.base[l] + R.scale[l] * off[j];
-      R.w[p] = R.wscale[l] * wedge[j];
-    }
-  }
-}
-
-void fill_bases(const geometry::Mesh& mesh, const VectorXd& c, LineRule& R, bool points) {
-  const int nb = mesh.nb(), nl = R.nl(), np = R.np();
+void fill_bases(const geometry::Mesh& mesh, LineRule& R) {
+  const int nb = mesh.nb(), nl = R.nl();
   if (R.Lc.rows() != nb || R.Lc.cols() < nl) {
     R.Lc.resize(nb, nl);
     R.dLc.resize(nb, nl);
   }
   for (int l = 0; l < nl; ++l) basis(mesh, R.c[l], R.Lc.col(l).data(), R.dLc.col(l).data());
-  if (!points) return;
-  expand_points(R);
-  // leading dimension = rows >= np + 4 (blocks of 4 points)
-  if (R.LoT.rows() < np + 4 || R.LoT.cols() != nb) {
-    R.LoT.resize(np + 4, nb);
-    R.dLoT.resize(np + 4, nb);
-    R.LoT.bottomRows(4).setZero();
-    R.dLoT.bottomRows(4).setZero();
-  }
-  spectral::lagrange_bases(mesh.nodes(), c, R.o.data(), np, R.LoT.data(), R.dLoT.data(),
-                           R.LoT.rows());
 }
 
 }  // namespace capflow::stokes

@@ -1,7 +1,7 @@
 // capflow/stokes/line_rule: construction of the special (own and near element) quadrature rules
 // as "lines" (boundary_integral.h explains the rules and why they are built as lines): the
 // perpendicular/sinh polar rule around a point of the square, its radial nodes, and the
-// Lagrange bases at its line coordinates and points.
+// Lagrange bases across its lines.
 #pragma once
 
 #include <Eigen/Dense>
@@ -21,8 +21,7 @@ constexpr int kMaxEdge = 256;  // Gauss points along an edge
 // rule's edge point sets (per edge of the square: the along-edge offsets `off` from the foot of
 // the perpendicular and their weights `wedge`) scaled by the line's ray fraction u:
 //   o = base + scale off[j],  w = wscale wedge[j]   (scale = u, wscale = u * radial weight).
-// expand_points fills the per-point o, w (the other modes' stage 2 reads them with LoT, dLoT);
-// the single layer generates them as it sums.
+// The kernel sums generate the points and their bases as they sum (line_sums.h).
 struct LineRule {
   int n0 = 0;                               // number of constant-s lines
   std::vector<double> c;                    // per line: the constant coordinate
@@ -31,18 +30,13 @@ struct LineRule {
   std::vector<int> set;                     // per line: its edge point set
   std::vector<int> set_start;               // per set: first entry of off / wedge (size sets + 1)
   std::vector<double> off, wedge;           // the edge point sets
-  std::vector<double> o, w;                 // per point (expand_points): along coordinate, weight
   Eigen::MatrixXd Lc, dLc;                  // nb x nl: 1-D bases (and derivatives) at c
-  Eigen::MatrixXd LoT, dLoT;  // np x nb: 1-D bases (and derivatives) at o, point-major
   int nl() const { return static_cast<int>(c.size()); }
   int np() const { return start.empty() ? 0 : start.back(); }
   // line l's edge point set: its first offset / weight and its size
   const double* line_off(int l) const { return off.data() + set_start[set[l]]; }
   const double* line_wedge(int l) const { return wedge.data() + set_start[set[l]]; }
 };
-
-// The per-point o, w of a rule (from its lines and edge point sets).
-void expand_points(LineRule& R);
 
 // Radial rule of a polar rule's rays (the radial nodes (u, weight) on [0, 1] for one edge):
 // h <= 0: Gauss-Legendre gr in u. h > 0 (scale h in u): the inner panel [0, u1], u1 = min(1, split)
@@ -70,12 +64,9 @@ struct RadialOpt {
 void polar_rule(double s0, double t0, const double* hu, const spectral::Rule& ge,
                 const spectral::Rule& gr, LineRule& R, const RadialOpt& ro = RadialOpt());
 
-// Bases of a line rule: Lc, dLc at the line coordinates and, if `points`, o, w (expand_points)
-// and LoT, dLoT at the points (spectral::lagrange_bases, product weights c). The matrices are
-// resized only when they are too small or of another nb (scratch reused across calls and
-// operators). Without `points` the single layer evaluates the point bases line by line while it
-// sums (line_sum: they stay in L1 instead of a rule-sized array).
-void fill_bases(const geometry::Mesh& mesh, const Eigen::VectorXd& c, LineRule& R,
-                bool points = true);
+// The across bases of a line rule: Lc, dLc at the line coordinates. The
+// matrices are resized only when they are too small or of another nb (scratch reused across calls
+// and operators).
+void fill_bases(const geometry::Mesh& mesh, LineRule& R);
 
 }  // namespace capflow::stokes

@@ -259,38 +259,216 @@ void stage1(int nb, int nl, int Kn, int n3, const double* Lc, const double* dLc,
 
 }  // namespace
 
+namespace {
+
+// One line of a special rule for the modes with Lagrange bases along the line: the stage-1 rows
+// A (x, and the density if there is one, at the along nodes: K nb) and B (d/d(across) x: 3 nb),
+// and the line's m points o_j = base + scale off[j] with weights w_j = wscale wedge[j].
+struct LagrangeLine {
+  const double* A;
+  const double* B;
+  double base, scale;
+  const double* off;
+  double wscale;
+  const double* wedge;
+  int m;
+};
+
+// 8 points per block (two 4-wide halves on AVX2, one 512-bit vector on AVX-512): the square root
+// and division of the kernel are latency-bound, and 8 independent lanes hide more of it.
+constexpr int kW = 8;
+typedef double vl __attribute__((vector_size(8 * kW)));
+constexpr vl kZero = {0, 0, 0, 0, 0, 0, 0, 0}, kOne = {1, 1, 1, 1, 1, 1, 1, 1};
+
+// r2 <- 1 / sqrt(r2), lane by lane (in place: a vector return value would change the baseline
+// clone's ABI)
+[[gnu::always_inline]] inline void inv_sqrt(vl& r2) {
+  for (int q = 0; q < kW; ++q) r2[q] = 1.0 / std::sqrt(r2[q]);
+}
+
+// The derivative along a line at its along nodes, dA[c nb + i] = sum_k D(i, k) A[c nb + k] for the
+// position (c < 3): exact for the line's polynomial of degree nb - 1, so its interpolant is the
+// derivative of the position's (no derivative bases at the points).
+[[gnu::always_inline]] inline void along_derivative(int nb, const double* A, const double* D,
+                                                    double* dA) {
+  for (int i = 0; i < 3 * nb; ++i) dA[i] = 0.0;
+  for (int c = 0; c < 3; ++c)
+    for (int k = 0; k < nb; ++k) {
+      const double a = A[c * nb + k];
+      for (int i = 0; i < nb; ++i) dA[c * nb + i] += D[i + k * nb] * a;
+    }
+}
+
+// The interpolated values at the points p0 .. p0 + kW - 1 of a line (lanes past its end: weight 0,
+// pad 1): the position X, the density F (Density) and the derivatives across (Ac, from B) and
+// along (Al, from dA) (Tangents). The Lagrange bases at each point are made in registers by the
+// product formula of spectral::lagrange_bases (prefix products times the weight c_j, then suffix
+// products), so no rule stores point bases and no near rule evaluates them into memory.
+template <bool Density, bool Tangents>
+[[gnu::always_inline]] inline void lagrange_block(int nb, const LagrangeLine& ln, const double* dA,
+                                                  const NodalBasis& nbas, int p0, vl& wq, vl& pad,
+                                                  vl* X, vl* F, vl* Ac, vl* Al) {
+  vl ov;
+  for (int q = 0; q < kW; ++q) {
+    const bool in = p0 + q < ln.m;
+    ov[q] = in ? ln.base + ln.scale * ln.off[p0 + q] : 0.0;
+    wq[q] = in ? ln.wscale * ln.wedge[p0 + q] : 0.0;
+    pad[q] = in ? 0.0 : 1.0;
+  }
+  vl pre[kMaxNb];  // c_j prod_{k < j} (o - x_k)
+  vl P = kOne;
+  for (int j = 0; j < nb; ++j) {
+    pre[j] = nbas.weights[j] * P;
+    P = P * (ov - nbas.nodes[j]);
+  }
+  for (int c = 0; c < 3; ++c) {
+    X[c] = kZero;
+    if constexpr (Density) F[c] = kZero;
+    if constexpr (Tangents) Ac[c] = Al[c] = kZero;
+  }
+  P = kOne;  // prod_{k > j} (o - x_k)
+  const double* A = ln.A;
+  const double* B = ln.B;
+  for (int j = nb - 1; j >= 0; --j) {
+    const vl L = pre[j] * P;
+    P = P * (ov - nbas.nodes[j]);
+    for (int c = 0; c < 3; ++c) X[c] += A[c * nb + j] * L;
+    if constexpr (Density)
+      for (int c = 0; c < 3; ++c) F[c] += A[(3 + c) * nb + j] * L;
+    if constexpr (Tangents)
+      for (int c = 0; c < 3; ++c) {
+        Ac[c] += B[c * nb + j] * L;
+        Al[c] += dA[c * nb + j] * L;
+      }
+  }
+}
+
+// w J n at the block's points: sg (x_across x x_along) times the weight.
+[[gnu::always_inline]] inline void weighted_normal(const vl* Ac, const vl* Al, vl wq, double sg,
+                                                   vl* n) {
+  const vl ws = sg * wq;
+  n[0] = ws * (Ac[1] * Al[2] - Ac[2] * Al[1]);
+  n[1] = ws * (Ac[2] * Al[0] - Ac[0] * Al[2]);
+  n[2] = ws * (Ac[0] * Al[1] - Ac[1] * Al[0]);
+}
+
+[[gnu::always_inline]] inline double hsum(const vl& v) {
+  return ((v[0] + v[1]) + (v[2] + v[3])) + ((v[4] + v[5]) + (v[6] + v[7]));
+}
+
+// INT S.n dS over one line: out[0..2] += sum w (n / r + (r.n) r / r^3) (kernel_point.h).
+CAPFLOW_TARGET_CLONES("arch=x86-64-v4", "arch=x86-64-v3", "default")
+void normal_line(int nb, const LagrangeLine& ln, const NodalBasis& nbas, double sg,
+                 const double* x0, double* out) {
+  double dA[3 * kMaxNb];
+  along_derivative(nb, ln.A, nbas.diff, dA);
+  vl s[3] = {kZero, kZero, kZero};
+  for (int p0 = 0; p0 < ln.m; p0 += kW) {
+    vl wq, pad, X[3], Ac[3], Al[3], n[3];
+    lagrange_block<false, true>(nb, ln, dA, nbas, p0, wq, pad, X, nullptr, Ac, Al);
+    weighted_normal(Ac, Al, wq, sg, n);
+    const vl rx = X[0] - x0[0], ry = X[1] - x0[1], rz = X[2] - x0[2];
+    vl ir = rx * rx + ry * ry + rz * rz + pad;
+    inv_sqrt(ir);
+    const vl b = (rx * n[0] + ry * n[1] + rz * n[2]) * ir * ir * ir;
+    s[0] += ir * n[0] + b * rx;
+    s[1] += ir * n[1] + b * ry;
+    s[2] += ir * n[2] + b * rz;
+  }
+  for (int c = 0; c < 3; ++c) out[c] += hsum(s[c]);
+}
+
+// The double layer over one line: out[0..2] += sum -6 (r.(u - u0)) (r.n) r / r^5.
+CAPFLOW_TARGET_CLONES("arch=x86-64-v4", "arch=x86-64-v3", "default")
+void double_line(int nb, const LagrangeLine& ln, const NodalBasis& nbas, double sg,
+                 const double* x0, const double* u0, double* out) {
+  double dA[3 * kMaxNb];
+  along_derivative(nb, ln.A, nbas.diff, dA);
+  vl s[3] = {kZero, kZero, kZero};
+  for (int p0 = 0; p0 < ln.m; p0 += kW) {
+    vl wq, pad, X[3], F[3], Ac[3], Al[3], n[3];
+    lagrange_block<true, true>(nb, ln, dA, nbas, p0, wq, pad, X, F, Ac, Al);
+    weighted_normal(Ac, Al, wq, sg, n);
+    const vl rx = X[0] - x0[0], ry = X[1] - x0[1], rz = X[2] - x0[2];
+    vl ir = rx * rx + ry * ry + rz * rz + pad;
+    inv_sqrt(ir);
+    const vl rq = rx * (F[0] - u0[0]) + ry * (F[1] - u0[1]) + rz * (F[2] - u0[2]);
+    const vl ir2 = ir * ir;
+    const vl a = -6.0 * rq * (rx * n[0] + ry * n[1] + rz * n[2]) * (ir2 * ir2 * ir);
+    s[0] += a * rx;
+    s[1] += a * ry;
+    s[2] += a * rz;
+  }
+  for (int c = 0; c < 3; ++c) out[c] += hsum(s[c]);
+}
+
+// INT T.n dS over one line: out[0..8] (column-major 3 x 3) += sum -6 (r.n) r r^T / r^5.
+CAPFLOW_TARGET_CLONES("arch=x86-64-v4", "arch=x86-64-v3", "default")
+void double_normal_line(int nb, const LagrangeLine& ln, const NodalBasis& nbas, double sg,
+                        const double* x0, double* out) {
+  double dA[3 * kMaxNb];
+  along_derivative(nb, ln.A, nbas.diff, dA);
+  vl s[9];
+  for (vl& v : s) v = kZero;
+  for (int p0 = 0; p0 < ln.m; p0 += kW) {
+    vl wq, pad, X[3], Ac[3], Al[3], n[3];
+    lagrange_block<false, true>(nb, ln, dA, nbas, p0, wq, pad, X, nullptr, Ac, Al);
+    weighted_normal(Ac, Al, wq, sg, n);
+    const vl r[3] = {X[0] - x0[0], X[1] - x0[1], X[2] - x0[2]};
+    vl ir = r[0] * r[0] + r[1] * r[1] + r[2] * r[2] + pad;
+    inv_sqrt(ir);
+    const vl ir2 = ir * ir;
+    const vl a = -6.0 * (r[0] * n[0] + r[1] * n[1] + r[2] * n[2]) * (ir2 * ir2 * ir);
+    for (int col = 0; col < 3; ++col) {
+      const vl ac = a * r[col];
+      for (int row = 0; row < 3; ++row) s[3 * col + row] += ac * r[row];
+    }
+  }
+  for (int c = 0; c < 9; ++c) out[c] += hsum(s[c]);
+}
+
+// The single layer with g = J f interpolated (A: x, g at the along nodes): out[0..2] += sum w
+// (g / r + (r.g) r / r^3).
+CAPFLOW_TARGET_CLONES("arch=x86-64-v4", "arch=x86-64-v3", "default")
+void jf_line(int nb, const LagrangeLine& ln, const NodalBasis& nbas, const double* x0,
+             double* out) {
+  vl s[3] = {kZero, kZero, kZero};
+  for (int p0 = 0; p0 < ln.m; p0 += kW) {
+    vl wq, pad, X[3], G[3];
+    lagrange_block<true, false>(nb, ln, nullptr, nbas, p0, wq, pad, X, G, nullptr, nullptr);
+    const vl rx = X[0] - x0[0], ry = X[1] - x0[1], rz = X[2] - x0[2];
+    vl ir = rx * rx + ry * ry + rz * rz + pad;
+    inv_sqrt(ir);
+    const vl a = wq * ir;
+    const vl b = a * ir * ir * (rx * G[0] + ry * G[1] + rz * G[2]);
+    s[0] += a * G[0] + b * rx;
+    s[1] += a * G[1] + b * ry;
+    s[2] += a * G[2] + b * rz;
+  }
+  for (int c = 0; c < 3; ++c) out[c] += hsum(s[c]);
+}
+
+}  // namespace
+
 // Sum the kernel over the points of one line rule; the element data are in sc.D0/D1 (in the
 // rule's orientation); sign: orientation of the rule's (s, t) relative to the element's.
 // Stage 1: for every line, the 1-D interpolation across the lines (dense products
 // Lc^T D: lines x (K nb)); stage 2: per point, length-nb dot products along the line.
 template <Mode M>
-void line_sum(int nb, int K_arg, const LineRule& R, double sign, const Vector3d& x0,
-              const Vector3d& u0, Scratch& sc, double* acc) {
+void line_sum(int nb, int K_arg, const LineRule& R, const NodalBasis& basis, double sign,
+              const Vector3d& x0, const Vector3d& u0, Scratch& sc, double* acc) {
   // the number of interpolated quantities is the mode's (a constant for the compiler)
   constexpr int K = uses_density(M) ? 6 : 3;
   if (K_arg != K) throw std::invalid_argument("line_sum: K does not match the mode");
   const int nl = R.nl(), n0 = R.n0, n1 = nl - n0;
   const int Kn = K * nb, n3 = 3 * nb;
   size_lines(sc, nb, nl);
-  if constexpr (M == Mode::Single) {
-    if (n0 > 0)
-      stage1(nb, n0, Kn, n3, R.Lc.data(), R.dLc.data(), sc.D0.data(), sc.D0.cols(), sc.A.data(),
-             sc.A.cols(), sc.B.data(), sc.B.cols());
-    if (n1 > 0)
-      stage1(nb, n1, Kn, n3, R.Lc.col(n0).data(), R.dLc.col(n0).data(), sc.D1.data(), sc.D1.cols(),
-             sc.A.row(n0).data(), sc.A.cols(), sc.B.row(n0).data(), sc.B.cols());
-  } else {
-    if (n0 > 0) {
-      sc.A.topLeftCorner(n0, Kn).noalias() = R.Lc.leftCols(n0).transpose() * sc.D0.leftCols(Kn);
-      sc.B.topLeftCorner(n0, n3).noalias() = R.dLc.leftCols(n0).transpose() * sc.D0.leftCols(n3);
-    }
-    if (n1 > 0) {
-      sc.A.block(n0, 0, n1, Kn).noalias() =
-          R.Lc.middleCols(n0, n1).transpose() * sc.D1.leftCols(Kn);
-      sc.B.block(n0, 0, n1, n3).noalias() =
-          R.dLc.middleCols(n0, n1).transpose() * sc.D1.leftCols(n3);
-    }
-  }
+  if (n0 > 0)
+    stage1(nb, n0, Kn, n3, R.Lc.data(), R.dLc.data(), sc.D0.data(), sc.D0.cols(), sc.A.data(),
+           sc.A.cols(), sc.B.data(), sc.B.cols());
+  if (n1 > 0)
+    stage1(nb, n1, Kn, n3, R.Lc.col(n0).data(), R.dLc.col(n0).data(), sc.D1.data(), sc.D1.cols(),
+           sc.A.row(n0).data(), sc.A.cols(), sc.B.row(n0).data(), sc.B.cols());
   if constexpr (M == Mode::Single) {
     (void)sign;  // |n| does not depend on the orientation
     for (int l = 0; l < nl; ++l) {
@@ -300,153 +478,52 @@ void line_sum(int nb, int K_arg, const LineRule& R, double sign, const Vector3d&
                     R.line_off(l), R.wscale[l], R.line_wedge(l), x0.data(), acc);
     }
   } else {
-    const int ld = static_cast<int>(R.LoT.rows());
     for (int l = 0; l < nl; ++l) {
-      const int p0 = R.start[l], m = R.start[l + 1] - p0;
+      const int m = R.start[l + 1] - R.start[l];
       if (m == 0) continue;
-      const double* A = sc.A.row(l).data();
-      const double* B = sc.B.row(l).data();
-      // 12 arrays of length m (stride ms): x(3), f(3), d/d(across)(3), d/d(along)(3)
-      const int ms = (m + 3) & ~3;
-      double* __restrict X0 = sc.v.data();
-      double* __restrict X1 = X0 + ms;
-      double* __restrict X2 = X0 + 2 * ms;
-      double* __restrict F0 = X0 + 3 * ms;
-      double* __restrict F1 = X0 + 4 * ms;
-      double* __restrict F2 = X0 + 5 * ms;
-      double* __restrict A0 = X0 + 6 * ms;
-      double* __restrict A1 = X0 + 7 * ms;
-      double* __restrict A2 = X0 + 8 * ms;
-      double* __restrict O0 = X0 + 9 * ms;
-      double* __restrict O1 = X0 + 10 * ms;
-      double* __restrict O2 = X0 + 11 * ms;
-      for (int p = 0; p < 9 * ms; ++p) X0[p] = 0.0;  // x, f (if K == 6), d/d(across)
-      for (int p = 9 * ms; p < 12 * ms; ++p) X0[p] = 0.0;
-      for (int j = 0; j < nb; ++j) {
-        const double* __restrict lo = R.LoT.data() + static_cast<long>(j) * ld + p0;
-        const double* __restrict dlo = R.dLoT.data() + static_cast<long>(j) * ld + p0;
-        const double c0 = A[j], c1 = A[nb + j], c2 = A[2 * nb + j];
-        const double d0 = B[j], d1 = B[nb + j], d2 = B[2 * nb + j];
-#pragma omp simd
-        for (int p = 0; p < m; ++p) {
-          X0[p] += c0 * lo[p];
-          X1[p] += c1 * lo[p];
-          X2[p] += c2 * lo[p];
-          A0[p] += d0 * lo[p];
-          A1[p] += d1 * lo[p];
-          A2[p] += d2 * lo[p];
-          O0[p] += c0 * dlo[p];
-          O1[p] += c1 * dlo[p];
-          O2[p] += c2 * dlo[p];
-        }
-        if (K == 6) {
-          const double e0 = A[3 * nb + j], e1 = A[4 * nb + j], e2 = A[5 * nb + j];
-#pragma omp simd
-          for (int p = 0; p < m; ++p) {
-            F0[p] += e0 * lo[p];
-            F1[p] += e1 * lo[p];
-            F2[p] += e2 * lo[p];
-          }
-        }
-      }
-      // n = x_s x x_t: constant-s lines: x_s = Da, x_t = Do; constant-t lines: swapped.
+      // n = x_s x x_t: constant-s lines: x_s = d/d(across), x_t = d/d(along); constant-t lines:
+      // swapped.
       const double sg = l < n0 ? sign : -sign;
-      const double* w = R.w.data() + p0;
-      double s0 = 0, s1 = 0, s2 = 0;
-      double s3 = 0, s4 = 0, s5 = 0, s6 = 0, s7 = 0, s8 = 0;
-#pragma omp simd reduction(+ : s0, s1, s2, s3, s4, s5, s6, s7, s8)
-      for (int p = 0; p < m; ++p) {
-        const double nx = sg * (A1[p] * O2[p] - A2[p] * O1[p]);
-        const double ny = sg * (A2[p] * O0[p] - A0[p] * O2[p]);
-        const double nz = sg * (A0[p] * O1[p] - A1[p] * O0[p]);
-        kernel_point<M>(X0[p] - x0[0], X1[p] - x0[1], X2[p] - x0[2], w[p] * nx, w[p] * ny,
-                        w[p] * nz, F0[p] - u0[0], F1[p] - u0[1], F2[p] - u0[2], s0, s1, s2, s3, s4,
-                        s5, s6, s7, s8);
-      }
-      add_sums<M>(acc, s0, s1, s2, s3, s4, s5, s6, s7, s8);
+      const LagrangeLine ln{sc.A.row(l).data(), sc.B.row(l).data(), R.base[l],       R.scale[l],
+                            R.line_off(l),      R.wscale[l],        R.line_wedge(l), m};
+      if constexpr (M == Mode::SingleNormal)
+        normal_line(nb, ln, basis, sg, x0.data(), acc);
+      else if constexpr (M == Mode::Double)
+        double_line(nb, ln, basis, sg, x0.data(), u0.data(), acc);
+      else
+        double_normal_line(nb, ln, basis, sg, x0.data(), acc);
     }
   }
 }
 
-template void line_sum<Mode::Single>(int, int, const LineRule&, double, const Vector3d&,
-                                     const Vector3d&, Scratch&, double*);
-template void line_sum<Mode::SingleNormal>(int, int, const LineRule&, double, const Vector3d&,
-                                           const Vector3d&, Scratch&, double*);
-template void line_sum<Mode::Double>(int, int, const LineRule&, double, const Vector3d&,
-                                     const Vector3d&, Scratch&, double*);
-template void line_sum<Mode::DoubleNormal>(int, int, const LineRule&, double, const Vector3d&,
-                                           const Vector3d&, Scratch&, double*);
+template void line_sum<Mode::Single>(int, int, const LineRule&, const NodalBasis&, double,
+                                     const Vector3d&, const Vector3d&, Scratch&, double*);
+template void line_sum<Mode::SingleNormal>(int, int, const LineRule&, const NodalBasis&, double,
+                                           const Vector3d&, const Vector3d&, Scratch&, double*);
+template void line_sum<Mode::Double>(int, int, const LineRule&, const NodalBasis&, double,
+                                     const Vector3d&, const Vector3d&, Scratch&, double*);
+template void line_sum<Mode::DoubleNormal>(int, int, const LineRule&, const NodalBasis&, double,
+                                           const Vector3d&, const Vector3d&, Scratch&, double*);
 
 // Single layer with the product g = J f interpolated from its nodal values (sc.D0/D1 hold x
 // and g): 6 values per point instead of 12 (no tangents, no derivative bases).
-void line_sum_jf(int nb, const LineRule& R, double sign, const Vector3d& x0, Scratch& sc,
-                 double* acc) {
+void line_sum_jf(int nb, const LineRule& R, const NodalBasis& basis, const Vector3d& x0,
+                 Scratch& sc, double* acc) {
   const int nl = R.nl(), n0 = R.n0, n1 = nl - n0;
   const int Kn = 6 * nb;
   size_lines(sc, nb, nl);
   if (n0 > 0)
-    sc.A.topLeftCorner(n0, Kn).noalias() = R.Lc.leftCols(n0).transpose() * sc.D0.leftCols(Kn);
+    stage1(nb, n0, Kn, 0, R.Lc.data(), R.dLc.data(), sc.D0.data(), sc.D0.cols(), sc.A.data(),
+           sc.A.cols(), sc.B.data(), sc.B.cols());
   if (n1 > 0)
-    sc.A.block(n0, 0, n1, Kn).noalias() = R.Lc.middleCols(n0, n1).transpose() * sc.D1.leftCols(Kn);
-  const int ld = static_cast<int>(R.LoT.rows());
-  const double X0 = x0[0], X1 = x0[1], X2 = x0[2];
-  double s0 = 0, s1 = 0, s2 = 0;
+    stage1(nb, n1, Kn, 0, R.Lc.col(n0).data(), R.dLc.col(n0).data(), sc.D1.data(), sc.D1.cols(),
+           sc.A.row(n0).data(), sc.A.cols(), sc.B.row(n0).data(), sc.B.cols());
   for (int l = 0; l < nl; ++l) {
-    const int p0 = R.start[l], m = R.start[l + 1] - p0;
+    const int m = R.start[l + 1] - R.start[l];
     if (m == 0) continue;
-    const double* A = sc.A.row(l).data();
-    const int ms = (m + 3) & ~3;
-    double* __restrict P0 = sc.v.data();
-    double* __restrict P1 = P0 + ms;
-    double* __restrict P2 = P0 + 2 * ms;
-    double* __restrict G0 = P0 + 3 * ms;
-    double* __restrict G1 = P0 + 4 * ms;
-    double* __restrict G2 = P0 + 5 * ms;
-    {
-      const double* __restrict lo = R.LoT.data() + p0;
-      const double c0 = A[0], c1 = A[nb], c2 = A[2 * nb];
-      const double e0 = A[3 * nb], e1 = A[4 * nb], e2 = A[5 * nb];
-#pragma omp simd
-      for (int p = 0; p < m; ++p) {
-        P0[p] = c0 * lo[p];
-        P1[p] = c1 * lo[p];
-        P2[p] = c2 * lo[p];
-        G0[p] = e0 * lo[p];
-        G1[p] = e1 * lo[p];
-        G2[p] = e2 * lo[p];
-      }
-    }
-    for (int j = 1; j < nb; ++j) {
-      const double* __restrict lo = R.LoT.data() + static_cast<long>(j) * ld + p0;
-      const double c0 = A[j], c1 = A[nb + j], c2 = A[2 * nb + j];
-      const double e0 = A[3 * nb + j], e1 = A[4 * nb + j], e2 = A[5 * nb + j];
-#pragma omp simd
-      for (int p = 0; p < m; ++p) {
-        P0[p] += c0 * lo[p];
-        P1[p] += c1 * lo[p];
-        P2[p] += c2 * lo[p];
-        G0[p] += e0 * lo[p];
-        G1[p] += e1 * lo[p];
-        G2[p] += e2 * lo[p];
-      }
-    }
-    const double* w = R.w.data() + p0;
-#pragma omp simd reduction(+ : s0, s1, s2)
-    for (int p = 0; p < m; ++p) {
-      const double rx = P0[p] - X0, ry = P1[p] - X1, rz = P2[p] - X2;
-      const double r2 = rx * rx + ry * ry + rz * rz;
-      const double ir = 1.0 / std::sqrt(r2);
-      const double a = w[p] * ir;
-      const double b = a * ir * ir * (rx * G0[p] + ry * G1[p] + rz * G2[p]);
-      s0 += a * G0[p] + b * rx;
-      s1 += a * G1[p] + b * ry;
-      s2 += a * G2[p] + b * rz;
-    }
+    const LagrangeLine ln{sc.A.row(l).data(), nullptr,     R.base[l],       R.scale[l],
+                          R.line_off(l),      R.wscale[l], R.line_wedge(l), m};
+    jf_line(nb, ln, basis, x0.data(), acc);
   }
-  // the rule's orientation does not change |J|: sign only enters through n, unused here
-  (void)sign;
-  acc[0] += s0;
-  acc[1] += s1;
-  acc[2] += s2;
 }
 }  // namespace capflow::stokes

@@ -3,7 +3,8 @@
 // 1-D interpolation across the lines) and stage 2 (per point, along the line) with the kernel.
 // The single layer's hot loops (stage 1, stage 2 + kernel in register blocks of 4 points) are
 // compiled for x86-64-v4, x86-64-v3 and the baseline and chosen at load time
-// (spectral/target_clones.h); the other modes use plain loops (kernel_point.h).
+// (spectral/target_clones.h); so are the other modes' stage 2 loops, which make the Lagrange bases
+// along the line at each point in registers (no point bases are stored or read).
 #pragma once
 
 #include <Eigen/Dense>
@@ -20,8 +21,16 @@ using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowM
 struct Scratch {
   RowMat D0, D1;  // element data, nb x (K nb): D0(i, k nb + j) = D1(j, k nb + i) = X_k(i, j)
   RowMat A, B;    // stage 1: values / derivative across, per line
-  std::vector<double> v;  // stage 2 per line: 12 arrays of the line's length
-  LineRule near;          // the near rule of the (target, element) being summed
+  LineRule near;  // the near rule of the (target, element) being summed
+};
+
+// The element's 1-D interpolation nodes, their product weights (spectral::product_weights) and
+// differentiation matrix (nb x nb, column-major): the Lagrange bases of the modes other than the
+// Chebyshev single layer.
+struct NodalBasis {
+  const double* nodes;
+  const double* weights;
+  const double* diff;
 };
 
 // An element's nodal data for the single layer with the coordinate along the rule lines in
@@ -29,8 +38,9 @@ struct Scratch {
 // (s-node), column c nb + k = the k-th coefficient in t of X_c(s_i, t); ct row j (t-node),
 // column c nb + k = the k-th coefficient in s of X_c(s, t_j) (X_c: x, then the density if K = 6).
 // Stage 2 then evaluates T_k and T_k' = k U_{k-1} by their recurrences at each point instead of
-// Lagrange bases (no per-point basis evaluation for the near rules, no stored point bases read
-// for the own rules). The other modes keep nodal data and Lagrange bases: the double layer's
+// Lagrange bases (no per-point basis evaluation). The other modes keep nodal data and Lagrange
+// bases (made in registers at each point, with the along derivative interpolated from the
+// nodal derivatives of each line): the double layer's
 // r.n cancels to O(r^2) next to the target, and x(p) - x0 keeps its digits there only with bases
 // that reproduce the nodal value at the node (in Chebyshev form INT T.n = -4 pi I lost about a
 // decade, docs/performance.md).
@@ -60,12 +70,12 @@ void size_scratch(Scratch& sc, int nb, int lines);
 // Stage 1: for every line, the 1-D interpolation across the lines (dense products
 // Lc^T D: lines x (K nb)); stage 2: per point, length-nb dot products along the line.
 template <Mode M>
-void line_sum(int nb, int K, const LineRule& R, double sign, const Eigen::Vector3d& x0,
-              const Eigen::Vector3d& u0, Scratch& sc, double* acc);
+void line_sum(int nb, int K, const LineRule& R, const NodalBasis& basis, double sign,
+              const Eigen::Vector3d& x0, const Eigen::Vector3d& u0, Scratch& sc, double* acc);
 
 // Single layer with the product g = J f interpolated from its nodal values (sc.D0/D1 hold x
 // and g): 6 values per point instead of 12 (no tangents, no derivative bases).
-void line_sum_jf(int nb, const LineRule& R, double sign, const Eigen::Vector3d& x0, Scratch& sc,
-                 double* acc);
+void line_sum_jf(int nb, const LineRule& R, const NodalBasis& basis, const Eigen::Vector3d& x0,
+                 Scratch& sc, double* acc);
 
 }  // namespace capflow::stokes

@@ -47,7 +47,7 @@ OwnRules::OwnRules(const geometry::Mesh& mesh, const QuadratureOptions& opt,
     const RadialOpt ro{graded ? &gl(opt.n_radial_inner) : nullptr, &gl(n_r),
                        graded ? opt.own_split : 0.0, 1};
     polar_rule(xi[ic], xi[jc], hu_own, gl(n_e), gl(n_r), r, ro);
-    fill_bases(mesh, prod_w, r);
+    fill_bases(mesh, r);
     return r;
   };
 
@@ -85,22 +85,20 @@ OwnRules::OwnRules(const geometry::Mesh& mesh, const QuadratureOptions& opt,
     }
     size_scratch(sc, nb, 0);
   }
+  const NodalBasis basis{xi.data(), prod_w.data(), mesh.diff().data()};
   auto own_values = [&](const LineRule& r, int ic, int jc) {
     std::vector<double> v;
     size_lines(sc, nb, r.nl());
-    int ml = 0;
-    for (int l = 0; l < r.nl(); ++l) ml = std::max(ml, r.start[l + 1] - r.start[l]);
-    if (sc.v.size() < 12 * static_cast<size_t>(ml + 4)) sc.v.resize(12 * (ml + 4));
     for (const Probe& pr : probes)
       for (int e : probe_elems) {
         const Vector3d x0 = pr.x.col(mesh.local(e, ic, jc));
         double acc[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
         load_chebyshev(nb, 6, pr.cheb[e], 0, sc);
-        line_sum<Mode::Single>(nb, 6, r, 1.0, x0, Vector3d::Zero(), sc, acc);
+        line_sum<Mode::Single>(nb, 6, r, basis, 1.0, x0, Vector3d::Zero(), sc, acc);
         load_element(nb, 6, pr.x, &pr.f, e * nb * nb, nullptr, sc);
         v.insert(v.end(), acc, acc + 3);
         double acc2[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
-        line_sum<Mode::DoubleNormal>(nb, 3, r, 1.0, x0, Vector3d::Zero(), sc, acc2);
+        line_sum<Mode::DoubleNormal>(nb, 3, r, basis, 1.0, x0, Vector3d::Zero(), sc, acc2);
         v.insert(v.end(), acc2, acc2 + 9);
       }
     return v;
@@ -187,13 +185,6 @@ long OwnRules::points() const {
 int OwnRules::max_lines() const {
   int n = 0;
   for (const LineRule& r : rules_) n = std::max(n, r.nl());
-  return n;
-}
-
-int OwnRules::max_line() const {
-  int n = 0;
-  for (const LineRule& r : rules_)
-    for (int l = 0; l < r.nl(); ++l) n = std::max(n, r.start[l + 1] - r.start[l]);
   return n;
 }
 

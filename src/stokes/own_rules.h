@@ -1,7 +1,7 @@
 // capflow/stokes/own_rules: the own-element rules of the boundary operators (boundary_integral.h):
 // one polar line rule per canonical node (i <= j <= (nb-1)/2; the other nodes of the element
 // map to one of these by the 8 symmetries of the square, and their element data are permuted
-// instead), with the Lagrange bases at its points stored; and, with own_tolerance > 0, the
+// instead), with the 1-D bases across its lines; and, with own_tolerance > 0, the
 // selection of each canonical node's orders (the fewest points within the tolerance of a
 // high-order rule, probed on every element of the sphere and an ellipsoid; cached process-wide
 // per mesh type and options).
@@ -35,7 +35,6 @@ class OwnRules {
   int count() const { return static_cast<int>(rules_.size()); }
   long points() const;
   int max_lines() const;  // lines of the largest rule
-  int max_line() const;   // points of the longest line
 
  private:
   std::vector<LineRule> rules_;               // one per canonical node

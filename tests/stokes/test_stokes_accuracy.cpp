@@ -57,8 +57,12 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// Relative max error of the default operator against the reference, octant targets.
-double octant_error(int ne, int nb, const geometry::PointMap& map, const char* name) {
+enum class Layer { Single, Double };
+
+// Relative max error of the default operator (single layer SL[f] or double layer DL[f]) against
+// the reference, octant targets.
+double octant_error(int ne, int nb, const geometry::PointMap& map, const char* name,
+                    Layer layer = Layer::Single) {
   geometry::Mesh mesh(ne, nb);
   const Matrix3Xd x = geometry::map_points(mesh.reference(), map);
   Matrix3Xd f(3, mesh.num_local());
@@ -71,20 +75,27 @@ double octant_error(int ne, int nb, const geometry::PointMap& map, const char* n
   stokes::BoundaryOperators ref_op(mesh, reference_options(nb));
   stokes::BoundaryOperators op(mesh);
   Matrix3Xd ref, v;
+  const bool single = layer == Layer::Single;
   auto t0 = std::chrono::steady_clock::now();
-  ref_op.single_layer(x, f, t, ref);
+  if (single)
+    ref_op.single_layer(x, f, t, ref);
+  else
+    ref_op.double_layer(x, f, t, ref);
   const double ms_ref = ms_since(t0);
   t0 = std::chrono::steady_clock::now();
   stokes::OperatorStats stats;
-  op.single_layer(x, f, t, v, &stats);
+  if (single)
+    op.single_layer(x, f, t, v, &stats);
+  else
+    op.double_layer(x, f, t, v, &stats);
   const double ms = ms_since(t0);
   const double scale = ref.cwiseAbs().maxCoeff();
   const double err = (v - ref).cwiseAbs().maxCoeff() / scale;
   std::printf(
-      "%-8s NE=%d NB=%d %zu targets: rel. max error %.2e (max|SL| %.3f); %.1f ms "
+      "%s %-8s NE=%d NB=%d %zu targets: rel. max error %.2e (max|%s| %.3f); %.1f ms "
       "(reference %.1f ms); pairs own/near/far %ld/%ld/%ld\n",
-      name, ne, nb, t.size(), err, scale, ms, ms_ref, stats.own_pairs, stats.near_pairs,
-      stats.far_pairs);
+      single ? "SL" : "DL", name, ne, nb, t.size(), err, single ? "SL" : "DL", scale, ms, ms_ref,
+      stats.own_pairs, stats.near_pairs, stats.far_pairs);
   return err;
 }
 
@@ -106,4 +117,24 @@ TEST(StokesAccuracy, OctantNE10NB12) {
   EXPECT_LT(octant_error(10, 12, bumpy_map(), "bumpy"), 1e-7);
   EXPECT_LT(octant_error(10, 12, geometry::ellipsoid_map(1.8, 0.7, 1.0), "ellipsoid"), 1e-7);
   EXPECT_LT(octant_error(10, 12, geometry::lamellar_map(2.0, 0.6, 1.0, 0.3), "lamellar"), 1e-7);
+}
+
+// The double layer DL[f] (the same smooth density as a velocity) on the same shapes and targets.
+TEST(StokesAccuracy, DoubleLayerOctantNE6NB10) {
+  EXPECT_LT(octant_error(6, 10, bumpy_map(), "bumpy", Layer::Double), 1e-7);
+  EXPECT_LT(octant_error(6, 10, geometry::ellipsoid_map(1.8, 0.7, 1.0), "ellipsoid", Layer::Double),
+            1e-7);
+  EXPECT_LT(
+      octant_error(6, 10, geometry::lamellar_map(2.0, 0.6, 1.0, 0.3), "lamellar", Layer::Double),
+      1e-7);
+}
+
+TEST(StokesAccuracy, DoubleLayerOctantNE10NB12) {
+  EXPECT_LT(octant_error(10, 12, bumpy_map(), "bumpy", Layer::Double), 1e-7);
+  EXPECT_LT(
+      octant_error(10, 12, geometry::ellipsoid_map(1.8, 0.7, 1.0), "ellipsoid", Layer::Double),
+      1e-7);
+  EXPECT_LT(
+      octant_error(10, 12, geometry::lamellar_map(2.0, 0.6, 1.0, 0.3), "lamellar", Layer::Double),
+      1e-7);
 }
