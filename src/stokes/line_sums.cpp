@@ -95,12 +95,16 @@ namespace {
 // Single layer, one line of a line rule: stage 2 (values along the line from the stage-1 rows
 // A (x, f: 6 nb Chebyshev coefficients in the along coordinate) and B (d/d(across) x: 3 nb))
 // and the kernel sum, added to out[0..2]. The line's m points o_j = base + scale off[j] (along
-// coordinate) with weights w_j = wscale wedge[j] (LineRule). Blocks of 4 points with the 12
+// coordinate) with weights w_j = wscale wedge[j] (LineRule). Blocks of kW points with the 12
 // interpolated values in registers (GCC vector extension): T_k by T_{k+1} = 2 o T_k - T_{k-1}, T_k'
 // = k U_{k-1} with U likewise. Compiled three times (x86-64-v4 with AVX-512, x86-64-v3 with
 // AVX2/FMA, and the default), chosen at load time.
 typedef double v4d __attribute__((vector_size(32)));
-
+// Stage 2 works on blocks of 8 points (one 512-bit vector on AVX-512, two 256-bit halves on
+// AVX2): the kernel's square root and division are latency-bound, and 8 independent lanes hide
+// more of it than 4 (NE=10 NB=12 single layer ~1.45x, docs/performance.md).
+constexpr int kW = 8;
+typedef double vl __attribute__((vector_size(8 * kW)));
 CAPFLOW_TARGET_CLONES("arch=x86-64-v4", "arch=x86-64-v3", "default")
 void single_line(int nb, int m, const double* A, const double* B, double base, double scale,
                  const double* off, double wscale, const double* wedge, const double* x0,
@@ -108,23 +112,23 @@ void single_line(int nb, int m, const double* A, const double* B, double base, d
   double kx[3 * kMaxNb];  // k c_k of the position's coefficients (the derivative's U weights)
   for (int c = 0; c < 3; ++c)
     for (int k = 0; k < nb; ++k) kx[c * nb + k] = k * A[c * nb + k];
-  const v4d zero = {0, 0, 0, 0}, one = {1, 1, 1, 1};
-  const v4d x00 = x0[0] * one, x01 = x0[1] * one, x02 = x0[2] * one;
-  v4d s0 = zero, s1 = zero, s2 = zero;
-  for (int p0 = 0; p0 < m; p0 += 4) {
-    v4d ov, wq, pad;
-    for (int q = 0; q < 4; ++q) {
+  const vl zero = {0, 0, 0, 0, 0, 0, 0, 0}, one = {1, 1, 1, 1, 1, 1, 1, 1};
+  const vl x00 = x0[0] * one, x01 = x0[1] * one, x02 = x0[2] * one;
+  vl s0 = zero, s1 = zero, s2 = zero;
+  for (int p0 = 0; p0 < m; p0 += kW) {
+    vl ov, wq, pad;
+    for (int q = 0; q < kW; ++q) {
       const bool in = p0 + q < m;
       ov[q] = in ? base + scale * off[p0 + q] : 0.0;
       wq[q] = in ? wscale * wedge[p0 + q] : 0.0;
       pad[q] = in ? 0.0 : 1.0;
     }
-    const v4d o2 = ov + ov;
-    v4d X0 = A[0] * one, X1 = A[nb] * one, X2 = A[2 * nb] * one;
-    v4d F0 = A[3 * nb] * one, F1 = A[4 * nb] * one, F2 = A[5 * nb] * one;
-    v4d A0 = B[0] * one, A1 = B[nb] * one, A2 = B[2 * nb] * one;
-    v4d O0 = zero, O1 = zero, O2 = zero;
-    v4d Tm = one, T = ov, Um = zero, U = one;  // T_{k-1}, T_k, U_{k-2}, U_{k-1} at k = 1
+    const vl o2 = ov + ov;
+    vl X0 = A[0] * one, X1 = A[nb] * one, X2 = A[2 * nb] * one;
+    vl F0 = A[3 * nb] * one, F1 = A[4 * nb] * one, F2 = A[5 * nb] * one;
+    vl A0 = B[0] * one, A1 = B[nb] * one, A2 = B[2 * nb] * one;
+    vl O0 = zero, O1 = zero, O2 = zero;
+    vl Tm = one, T = ov, Um = zero, U = one;  // T_{k-1}, T_k, U_{k-2}, U_{k-1} at k = 1
     for (int k = 1; k < nb; ++k) {
       X0 += A[k] * T;
       X1 += A[nb + k] * T;
@@ -138,32 +142,32 @@ void single_line(int nb, int m, const double* A, const double* B, double base, d
       O0 += kx[k] * U;
       O1 += kx[nb + k] * U;
       O2 += kx[2 * nb + k] * U;
-      const v4d Tn = o2 * T - Tm, Un = o2 * U - Um;
+      const vl Tn = o2 * T - Tm, Un = o2 * U - Um;
       Tm = T;
       T = Tn;
       Um = U;
       U = Un;
     }
-    const v4d nx = A1 * O2 - A2 * O1;
-    const v4d ny = A2 * O0 - A0 * O2;
-    const v4d nz = A0 * O1 - A1 * O0;
-    const v4d rx = X0 - x00, ry = X1 - x01, rz = X2 - x02;
-    const v4d r2 = rx * rx + ry * ry + rz * rz + pad;
-    const v4d n2 = nx * nx + ny * ny + nz * nz;
-    v4d ir, nn;
-    for (int q = 0; q < 4; ++q) {
+    const vl nx = A1 * O2 - A2 * O1;
+    const vl ny = A2 * O0 - A0 * O2;
+    const vl nz = A0 * O1 - A1 * O0;
+    const vl rx = X0 - x00, ry = X1 - x01, rz = X2 - x02;
+    const vl r2 = rx * rx + ry * ry + rz * rz + pad;
+    const vl n2 = nx * nx + ny * ny + nz * nz;
+    vl ir, nn;
+    for (int q = 0; q < kW; ++q) {
       ir[q] = 1.0 / std::sqrt(r2[q]);
       nn[q] = std::sqrt(n2[q]);
     }
-    const v4d aa = wq * nn * ir;
-    const v4d bb = aa * ir * ir * (rx * F0 + ry * F1 + rz * F2);
+    const vl aa = wq * nn * ir;
+    const vl bb = aa * ir * ir * (rx * F0 + ry * F1 + rz * F2);
     s0 += aa * F0 + bb * rx;
     s1 += aa * F1 + bb * ry;
     s2 += aa * F2 + bb * rz;
   }
-  out[0] += (s0[0] + s0[1]) + (s0[2] + s0[3]);
-  out[1] += (s1[0] + s1[1]) + (s1[2] + s1[3]);
-  out[2] += (s2[0] + s2[1]) + (s2[2] + s2[3]);
+  out[0] += ((s0[0] + s0[1]) + (s0[2] + s0[3])) + ((s0[4] + s0[5]) + (s0[6] + s0[7]));
+  out[1] += ((s1[0] + s1[1]) + (s1[2] + s1[3])) + ((s1[4] + s1[5]) + (s1[6] + s1[7]));
+  out[2] += ((s2[0] + s2[1]) + (s2[2] + s2[3])) + ((s2[4] + s2[5]) + (s2[6] + s2[7]));
 }
 
 }  // namespace
@@ -274,10 +278,6 @@ struct LagrangeLine {
   int m;
 };
 
-// 8 points per block (two 4-wide halves on AVX2, one 512-bit vector on AVX-512): the square root
-// and division of the kernel are latency-bound, and 8 independent lanes hide more of it.
-constexpr int kW = 8;
-typedef double vl __attribute__((vector_size(8 * kW)));
 constexpr vl kZero = {0, 0, 0, 0, 0, 0, 0, 0}, kOne = {1, 1, 1, 1, 1, 1, 1, 1};
 
 // r2 <- 1 / sqrt(r2), lane by lane (in place: a vector return value would change the baseline
