@@ -1,6 +1,7 @@
 #include "diagnostics/diagnostics.h"
 
 #include "geometry/element_search.h"
+#include "spectral/spectral.h"
 
 #include <algorithm>
 #include <cmath>
@@ -188,19 +189,43 @@ std::vector<Vector2d> cross_section(const Mesh& mesh, const Matrix3Xd& x, int ax
   const int a0 = (axis == 0) ? 1 : 0;
   const int a1 = (axis == 2) ? 1 : 2;
   const ElementEvaluator ev(mesh, x);
-  const int lines = 4 * mesh.nb();
-  const int samples = 4 * mesh.nb();
+  const int nb = mesh.nb(), nb2 = nb * nb;
+  const int lines = 4 * nb;
+  const int samples = 4 * nb;
+  // The scan for sign changes works on one coordinate along 1-D lines: the element's nodal
+  // x[axis] interpolated across to the line (Lc: the bases at the line's fixed coordinate), then
+  // along it at the samples (Ls: the bases at u_k = -1 + 2k/samples, shared by every line); only
+  // the bracketed roots are refined with the full 2-D evaluation.
+  const Eigen::VectorXd& nodes = mesh.nodes();
+  const Eigen::VectorXd bw = spectral::barycentric_weights(nodes);
+  Eigen::MatrixXd Ls(samples + 1, nb), Lc(nb, lines);
+  std::vector<double> basis(nb);
+  for (int k = 0; k <= samples; ++k) {
+    spectral::lagrange_basis(nodes, bw, -1.0 + 2.0 * k / samples, basis.data(), nullptr);
+    for (int j = 0; j < nb; ++j) Ls(k, j) = basis[j];
+  }
+  for (int c = 0; c < lines; ++c)
+    spectral::lagrange_basis(nodes, bw, -1.0 + 2.0 * (c + 0.5) / lines, Lc.col(c).data(), nullptr);
+  Eigen::MatrixXd X(nb, nb), G(nb, lines), F(samples + 1, lines);
   std::vector<Vector2d> pts;
   for (int e = 0; e < mesh.ne(); ++e) {
+    for (int j = 0; j < nb; ++j)
+      for (int i = 0; i < nb; ++i) X(i, j) = x(axis, e * nb2 + j * nb + i);  // i along s
     for (int dir = 0; dir < 2; ++dir) {
+      // dir 0: s fixed, t = u varies; dir 1: t fixed, s = u varies
+      if (dir == 0)
+        G.noalias() = X.transpose() * Lc;  // G(j, l) = x along t_j at s_l
+      else
+        G.noalias() = X * Lc;  // G(i, l) = x along s_i at t_l
+      F.noalias() = Ls * G;
       for (int l = 0; l < lines; ++l) {
         const double fixed = -1.0 + 2.0 * (l + 0.5) / lines;
         auto at = [&](double u) { return dir == 0 ? ev.eval(e, fixed, u) : ev.eval(e, u, fixed); };
         double u_prev = -1.0;
-        double f_prev = at(u_prev).x[axis] - value;
+        double f_prev = F(0, l) - value;
         for (int k = 1; k <= samples; ++k) {
           const double u = -1.0 + 2.0 * k / samples;
-          const double f = at(u).x[axis] - value;
+          const double f = F(k, l) - value;
           if ((f_prev <= 0 && f > 0) || (f_prev > 0 && f <= 0)) {
             // Safeguarded Newton (falls back to bisection) on [u_prev, u].
             double lo = u_prev, hi = u, flo = f_prev;
