@@ -64,8 +64,9 @@ struct Mp4Writer::Impl {
 Mp4Writer::Mp4Writer(const std::string& path, const Mp4Options& o) : impl_(new Impl) {
   if (o.width <= 0 || o.height <= 0 || o.width % 2 || o.height % 2)
     throw std::invalid_argument("mp4: width and height must be positive and even");
-  if (o.fps < 1 || o.crf < 0 || o.crf > 51 || o.flush_every < 1)
-    throw std::invalid_argument("mp4: need fps >= 1, crf in [0,51], flush_every >= 1");
+  if (o.fps < 1 || o.crf < 0 || o.crf > 51 || o.flush_every < 1 || o.threads < 0)
+    throw std::invalid_argument(
+        "mp4: need fps >= 1, crf in [0,51], flush_every >= 1, threads >= 0");
   // libx264 prints its statistics at info level on every close; keep the run log readable.
   if (av_log_get_level() > AV_LOG_WARNING) av_log_set_level(AV_LOG_WARNING);
   Impl& m = *impl_;
@@ -83,6 +84,7 @@ Mp4Writer::Mp4Writer(const std::string& path, const Mp4Options& o) : impl_(new I
     m.enc->pix_fmt = AV_PIX_FMT_YUV420P;
     m.enc->gop_size = o.fps;
     m.enc->max_b_frames = 0;
+    m.enc->thread_count = o.threads;
     if (m.fmt->oformat->flags & AVFMT_GLOBALHEADER) m.enc->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
     av_opt_set(m.enc->priv_data, "preset", o.preset.c_str(), 0);
     av_opt_set(m.enc->priv_data, "tune", "zerolatency", 0);

@@ -25,6 +25,9 @@ struct Mp4Options {
   int crf = 20;                // x264 constant rate factor 0..51 (lower = better)
   std::string preset = "veryfast";
   int flush_every = 1;         // frames per fragment
+  // libx264's threads (0: its default, ~1.5 per core). 1 keeps the encoder on the calling thread:
+  // the renderer's one-core budget (app/cpu_budget.h).
+  int threads = 1;
 };
 
 class Mp4Writer {

@@ -1,4 +1,4 @@
-// capflow/output/png_writer: PNG files via stb_image_write (Debian's libstb). No GL, no
+// capflow/output/png_writer: PNG files via libspng (Debian's libspng, zlib level 1). No GL, no
 // numerics. Pixels are 8-bit RGBA, rows top-down, `stride` bytes apart (0: width*4); an image
 // whose alpha is 255 everywhere is stored as RGB (the same pixels, a smaller, faster file).
 // Failure: std::runtime_error naming the path.
