@@ -10,6 +10,7 @@ uniform float u_colormap_size;
 uniform int u_plain;           // 1: use u_plain_color instead of the colour map
 uniform vec3 u_plain_color;
 uniform bool u_ortho;
+uniform float u_alpha;  // 1 for the surface; the outline's smooth lines (renderer.cpp) set their own
 out vec4 frag_color;
 
 const vec3 key_dir = normalize(vec3(0.0, 0.55, 1.0));
@@ -31,5 +32,5 @@ void main() {
   float d = ambient + key * max(dot(n, key_dir), 0.0) + fill * max(dot(n, fill_dir), 0.0);
   float s = spec * pow(max(dot(n, normalize(key_dir + v)), 0.0), shininess);
   vec3 c = base * d + vec3(s);
-  frag_color = vec4(min(c, vec3(1.0)), 1.0);
+  frag_color = vec4(min(c, vec3(1.0)), u_alpha);
 }

@@ -30,6 +30,7 @@ struct RenderCmd {
   double fov = 30;
   bool ortho = false, no_lines = false, no_colorbar = false, no_text = false;
   int msaa = 4;
+  std::string antialias = "auto";
   RenderFlags image;  // width 1280, height 720
 };
 
@@ -43,6 +44,8 @@ int run(const RenderCmd& c) {
   RenderOptions o;
   apply_render_flags(c.image, &o);
   o.msaa = c.msaa;
+  if (!parse_antialias(c.antialias, &o.antialias))
+    throw UserError("--antialias: unknown '" + c.antialias + "' (auto | msaa | lines | off)");
   if (!c.eye.empty()) {
     o.camera.view = View::Custom;
     o.camera.eye = vec3(c.eye, "eye");
@@ -61,12 +64,15 @@ int run(const RenderCmd& c) {
 
   geometry::Mesh mesh(c.ne, c.nb);
   geometry::PointMap map;
-  if (c.shape == "sphere") map = geometry::ellipsoid_map(1, 1, 1);
+  if (c.shape == "sphere")
+    map = geometry::ellipsoid_map(1, 1, 1);
   else if (c.shape == "ellipsoid") {
     if (c.ellipsoid.size() != 3) throw UserError("--ellipsoid needs A,B,C");
     map = geometry::ellipsoid_map(c.ellipsoid[0], c.ellipsoid[1], c.ellipsoid[2]);
-  } else if (c.shape == "lamellar") map = geometry::lamellar_map();
-  else throw UserError("--shape: unknown '" + c.shape + "' (sphere|ellipsoid|lamellar)");
+  } else if (c.shape == "lamellar")
+    map = geometry::lamellar_map();
+  else
+    throw UserError("--shape: unknown '" + c.shape + "' (sphere|ellipsoid|lamellar)");
   const auto x = geometry::map_points(mesh.reference(), map);
 
   Snapshot s;
@@ -150,7 +156,10 @@ void setup(CLI::App& root) {
   sub->add_flag("--no-colorbar", c->no_colorbar, "no colour bar");
   sub->add_flag("--no-text", c->no_text, "no text block (t, Ca, D, law)");
   add_render_flags(sub, &c->image);
-  sub->add_option("--msaa", c->msaa, "multisample count (0 = off)");
+  sub->add_option(
+      "--antialias", c->antialias,
+      "auto | msaa | lines | off (auto: lines on a software rasteriser, msaa on a GPU)");
+  sub->add_option("--msaa", c->msaa, "multisample count with --antialias msaa (0 = off)");
   sub->add_option("-o,--output", c->out, "output PNG");
   sub->callback([c] { set_exit_code(run(*c)); });
 }

@@ -692,9 +692,17 @@ std::vector<Field> build_fields() {
       "render.backend", [](const O& o) { return static_cast<int>(o.render.backend); },
       [](O& o, int i) { o.render.backend = static_cast<render::Backend>(i); },
       {"auto", "egl", "osmesa"}, kFrozen, "headless GL (auto: EGL, then OSMesa)"));
+  t.push_back(choice(
+      "render.antialias", [](const O& o) { return static_cast<int>(o.render.antialias); },
+      [](O& o, int i) { o.render.antialias = static_cast<render::Antialias>(i); },
+      {"auto", "msaa", "lines", "off"}, kFrozen,
+      "edge anti-aliasing: msaa (render.msaa samples), lines (smooth lines along the outline and "
+      "the element edges; a third of the CPU on a software rasteriser); auto: lines on "
+      "llvmpipe / OSMesa, msaa on a GPU"));
   t.push_back(integer(
       "render.msaa", [](O& o) -> int& { return o.render.msaa; }, 0, 16, "the multisample count", "",
-      kFrozen, "multisampling (the largest count the GL supports up to this, with a warning)"));
+      kFrozen,
+      "samples when multisampling (the largest count the GL supports up to this, with a warning)"));
   t.push_back(boolean(
       "render.preview", [](O& o) -> bool& { return o.render.preview; }, kFrozen,
       "keep preview.png current (never blocks the solver)"));

@@ -47,6 +47,22 @@ const char* field_label(ColorField f) {
   }
 }
 const char* colormap_name(ColorMap m) { return m == ColorMap::Viridis ? "viridis" : "coolwarm"; }
+const char* antialias_name(Antialias a) {
+  switch (a) {
+    case Antialias::Multisample: return "msaa";
+    case Antialias::Lines: return "lines";
+    case Antialias::Off: return "off";
+    default: return "auto";
+  }
+}
+bool parse_antialias(const std::string& s, Antialias* out) {
+  for (Antialias a : {Antialias::Auto, Antialias::Multisample, Antialias::Lines, Antialias::Off})
+    if (s == antialias_name(a)) {
+      *out = a;
+      return true;
+    }
+  return false;
+}
 
 bool parse_view(const std::string& s, View* out) {
   if (s == "oblique") *out = View::Oblique;

@@ -19,6 +19,11 @@ enum class View { Oblique, XY, XZ, YZ, Custom };
 // Colour field: tau1 (max principal tension), tau2 (min), (tau1 + tau2)/2, or plain colour.
 enum class ColorField { MaxTension, MinTension, MeanTension, Plain };
 enum class ColorMap { Viridis, CoolWarm };  // assets/viridis.csv, assets/coolwarm.csv
+// Edge anti-aliasing. Multisample: `msaa` samples per pixel. Lines: no multisampling; the element
+// edges and the surface's outline (render/silhouette.h) are drawn as smooth (coverage-blended)
+// lines, about a third of the CPU of 4x multisampling on llvmpipe (docs/performance.md). Auto:
+// Lines on a software rasteriser (llvmpipe, softpipe, OSMesa's swrast), Multisample on a GPU.
+enum class Antialias { Auto, Multisample, Lines, Off };
 
 struct CameraOptions {
   View view = View::Oblique;
@@ -32,7 +37,8 @@ struct CameraOptions {
 struct RenderOptions {
   int width = 1280;    // image width in pixels (even; MP4 needs even sizes)
   int height = 720;    // image height in pixels (even)
-  int msaa = 4;        // multisample count (0 or 1 = off)
+  int msaa = 4;        // multisample count when multisampling (0 or 1 = off)
+  Antialias antialias = Antialias::Auto;
   int subdivisions = 25;  // upsampling grid per element (25 x 25, as in the paper's views)
   CameraOptions camera;
   ColorField field = ColorField::MaxTension;
@@ -68,8 +74,10 @@ const char* view_name(View v);
 const char* field_name(ColorField f);     // "max-tension", ...
 const char* field_label(ColorField f);    // legend title, e.g. "max principal tension tau1"
 const char* colormap_name(ColorMap m);
+const char* antialias_name(Antialias a);  // "auto", "msaa", "lines", "off"
 bool parse_view(const std::string& s, View* out);         // oblique|xy|xz|yz
 bool parse_field(const std::string& s, ColorField* out);  // max|min|mean|plain (or long names)
 bool parse_colormap(const std::string& s, ColorMap* out); // viridis|coolwarm
+bool parse_antialias(const std::string& s, Antialias* out);  // auto|msaa|lines|off
 
 }  // namespace capflow::render

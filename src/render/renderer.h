@@ -4,7 +4,9 @@
 // glFinish so the figures are wall-clock costs):
 //   upsample  : Upsampler (CPU) -> triangles, smooth normals, field values
 //   draw      : upload, Blinn-Phong surface (+ element edges) into a multisampled FBO,
-//               resolve (blit) into a single-sample FBO
+//               resolve (blit) into a single-sample FBO; or, with Antialias::Lines, straight
+//               into the single-sample FBO with the element edges and the outline as smooth,
+//               blended lines
 //   overlay   : Dear ImGui colour bar and text into the resolved FBO
 //   readback  : glReadPixels and vertical flip into Image (rows top-down)
 // Colour range: options.auto_range -> [min, max] of the upsampled field (symmetric [-m, m],
@@ -25,6 +27,7 @@
 #include "render/colormap.h"
 #include "render/context.h"
 #include "render/options.h"
+#include "render/silhouette.h"
 #include "render/snapshot.h"
 #include "render/upsample.h"
 
@@ -33,11 +36,16 @@ namespace capflow::render {
 struct Image {
   int width = 0, height = 0;
   std::vector<uint8_t> rgba;  // width*height*4, row 0 = top
-  const uint8_t* pixel(int x, int y) const { return &rgba[(static_cast<size_t>(y) * width + x) * 4]; }
+  const uint8_t* pixel(int x, int y) const {
+    return &rgba[(static_cast<size_t>(y) * width + x) * 4];
+  }
 };
 
 struct FrameTimings {
   double upsample_ms = 0, draw_ms = 0, overlay_ms = 0, readback_ms = 0;
+  // The process's CPU time over each stage (every thread, llvmpipe's included): the stage's own
+  // CPU cost only when nothing else runs in the process (benchmarks/render/bench_render).
+  double upsample_cpu_ms = 0, draw_cpu_ms = 0, overlay_cpu_ms = 0, readback_cpu_ms = 0;
 };
 
 class Overlay;
@@ -55,6 +63,8 @@ class Renderer {
   const RenderOptions& options() const { return opt_; }
   // The multisample count in use (0: none): the largest the GL supports up to options().msaa.
   int msaa() const { return msaa_used_; }
+  // The anti-aliasing in use (options().antialias with Auto resolved for this GL).
+  Antialias antialias() const { return antialias_; }
   // What differs from the options asked for (e.g. a lower msaa), one line each.
   const std::vector<std::string>& warnings() const { return warnings_; }
   const Colormap& colormap() const { return colormap_; }
@@ -65,6 +75,7 @@ class Renderer {
 
  private:
   void create_framebuffers();
+  void draw_outline();
   RenderOptions opt_;
   std::unique_ptr<GlContext> context_;
   Colormap colormap_;
@@ -78,6 +89,9 @@ class Renderer {
   unsigned vao_ = 0, vbo_[3] = {0, 0, 0}, ebo_tri_ = 0, ebo_lines_ = 0, cmap_tex_ = 0;
   unsigned msaa_fbo_ = 0, msaa_rb_[2] = {0, 0}, fbo_ = 0, rb_[2] = {0, 0};
   int msaa_used_ = 0;
+  Antialias antialias_ = Antialias::Off;
+  OutlineLines outline_;  // Antialias::Lines: the outline of the last frame
+  unsigned outline_vao_ = 0, outline_vbo_[3] = {0, 0, 0};
   std::vector<std::string> warnings_;
   size_t uploaded_indices_ = 0;
   std::vector<uint8_t> readback_;

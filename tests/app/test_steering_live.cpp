@@ -216,7 +216,7 @@ TEST(SteeringRegression, MsaaAboveTheSupportedCountUsesTheLargestSupported) {
   const fs::path ctl = d / "c.json", run = d / "run";
   test::write_file(ctl, R"({"mesh": {"elements": 6, "nb": 6}, "time": {"dt": 0.004, "t_end": 0.016},
     "ca": 0.3, "output": {"csv_every": 0.004, "frame_every": 0.008, "mp4": false},
-    "render": {"width": 64, "height": 48, "msaa": 16}, "numerics": {"threads": 1}})");
+    "render": {"width": 64, "height": 48, "antialias": "msaa", "msaa": 16}, "numerics": {"threads": 1}})");
   EXPECT_EQ(
       test::run_capflow({CAPFLOW_EXE, "run", ctl.string(), "-o", run.string()}, d / "stderr.log"),
       0)

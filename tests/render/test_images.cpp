@@ -15,7 +15,9 @@ namespace {
 using testing::require_backend;
 using testing::shape_snapshot;
 
-bool is_background(const uint8_t* p) { return p[0] > 250 && p[1] > 250 && p[2] > 250; }
+bool is_background(const uint8_t* p) {
+  return p[0] > 250 && p[1] > 250 && p[2] > 250;
+}
 
 // HSV hue in degrees of an RGB triple in [0,1]; chroma returned through *c.
 double hue(double r, double g, double b, double* c) {
@@ -23,9 +25,12 @@ double hue(double r, double g, double b, double* c) {
   *c = mx - mn;
   if (*c <= 0) return 0;
   double h;
-  if (mx == r) h = std::fmod((g - b) / *c, 6.0);
-  else if (mx == g) h = (b - r) / *c + 2;
-  else h = (r - g) / *c + 4;
+  if (mx == r)
+    h = std::fmod((g - b) / *c, 6.0);
+  else if (mx == g)
+    h = (b - r) / *c + 2;
+  else
+    h = (r - g) / *c + 4;
   h *= 60;
   return h < 0 ? h + 360 : h;
 }
@@ -58,7 +63,7 @@ TEST_P(Images, OrthographicXYEllipsoidSilhouetteRatio) {
   o.camera.view = View::XY;
   o.camera.orthographic = true;
   o.field = ColorField::Plain;
-  o.msaa = 0;
+  o.antialias = Antialias::Off;
   o.width = 1280;
   o.height = 960;
   Renderer r(o);
@@ -128,7 +133,8 @@ TEST_P(Images, MirrorSymmetricShapeAndViewGiveMirrorSymmetricImage) {
       bool edge = false;
       for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -1; dx <= 1; ++dx) {
-          const int xx = std::clamp(x + dx, 0, img.width - 1), yy = std::clamp(y + dy, 0, img.height - 1);
+          const int xx = std::clamp(x + dx, 0, img.width - 1),
+                    yy = std::clamp(y + dy, 0, img.height - 1);
           edge = edge || is_background(img.pixel(xx, yy)) ||
                  is_background(img.pixel(img.width - 1 - xx, yy));
         }
@@ -172,8 +178,118 @@ TEST_P(Images, ColorbarPixelsFollowTheColormap) {
   }
 }
 
+// Anti-aliasing by smooth lines (the default on llvmpipe) against 4x multisampling, on the
+// lamellar shape with element lines and a colour field (1280x720, the movie size):
+//  * silhouette: the covered pixels (not background) agree except in a band of one pixel;
+//  * colours: away from the silhouette and the lines (2 px) the pixels agree to within 2 levels;
+//  * edges: both give the silhouette intermediate (blended) pixels - as many within a factor of
+//    two; without anti-aliasing there are none - and near the edges and lines the lines image
+//    is closer to the multisampled one than the image without anti-aliasing.
+TEST_P(Images, AntialiasLinesMatchesMultisampling) {
+  require_backend(GetParam());
+  const Snapshot s = shape_snapshot(6, 9, geometry::lamellar_map(),
+                                    [](double x, double, double) { return x * x; });
+  auto render_with = [&](Antialias aa, Antialias* used) {
+    RenderOptions o = base();
+    o.width = 1280;
+    o.height = 720;
+    o.element_lines = true;
+    o.antialias = aa;
+    o.msaa = 4;
+    Renderer r(o);
+    *used = r.antialias();
+    Image img;
+    r.render(s, &img);
+    return img;
+  };
+  Antialias used_ms, used_lines, used_off;
+  const Image ms = render_with(Antialias::Multisample, &used_ms);
+  const Image ln = render_with(Antialias::Lines, &used_lines);
+  const Image off = render_with(Antialias::Off, &used_off);
+  ASSERT_EQ(used_lines, Antialias::Lines);
+  ASSERT_EQ(used_off, Antialias::Off);
+  if (used_ms != Antialias::Multisample) GTEST_SKIP() << "no multisampling on this GL";
+  const int w = ms.width, h = ms.height;
+  auto fg = [](const Image& im, int x, int y) { return !is_background(im.pixel(x, y)); };
+  // pixels within r of a jump of more than 12 levels (the shading changes by far less from one
+  // pixel to the next): the silhouette and the element lines of either image
+  auto near_edge = [&](const Image& im, int x, int y, int r) {
+    const uint8_t* p = im.pixel(x, y);
+    for (int dy = -r; dy <= r; ++dy)
+      for (int dx = -r; dx <= r; ++dx) {
+        const int xx = std::clamp(x + dx, 0, w - 1), yy = std::clamp(y + dy, 0, h - 1);
+        const uint8_t* q = im.pixel(xx, yy);
+        for (int c = 0; c < 3; ++c)
+          if (std::abs(p[c] - q[c]) > 12) return true;
+      }
+    return false;
+  };
+  long cover_diff = 0, cover_far = 0, silhouette = 0, interior = 0;
+  double worst_interior = 0;
+  long blended[3] = {0, 0, 0};  // MSAA, lines, off: silhouette pixels between background and fg
+  for (int y = 1; y + 1 < h; ++y)
+    for (int x = 1; x + 1 < w; ++x) {
+      const bool a = fg(ms, x, y), b = fg(ln, x, y);
+      const bool edge = a != fg(ms, x + 1, y) || a != fg(ms, x, y + 1);
+      silhouette += edge;
+      if (a != b) {
+        ++cover_diff;
+        // more than one pixel away from the multisampled silhouette
+        bool close = false;
+        for (int dy = -1; dy <= 1 && !close; ++dy)
+          for (int dx = -1; dx <= 1 && !close; ++dx) close = fg(ms, x + dx, y + dy) != a;
+        cover_far += !close;
+      }
+      if (a && b && !near_edge(ms, x, y, 2) && !near_edge(ln, x, y, 2)) {
+        ++interior;
+        double d = 0;
+        for (int c = 0; c < 3; ++c)
+          d = std::max(d, std::abs(double(ms.pixel(x, y)[c]) - ln.pixel(x, y)[c]));
+        worst_interior = std::max(worst_interior, d);
+      }
+      const Image* imgs[3] = {&ms, &ln, &off};
+      for (int k = 0; k < 3; ++k) {
+        const uint8_t* p = imgs[k]->pixel(x, y);
+        const int mn = std::min({p[0], p[1], p[2]});
+        // partially covered background: lighter than any surface colour, not white
+        if (edge && mn > 120 && mn < 245) ++blended[k];
+      }
+    }
+  // mean |difference| from the multisampled image over the pixels near its edges and lines
+  auto edge_difference = [&](const Image& im) {
+    double sum = 0;
+    long n = 0;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        if (near_edge(ms, x, y, 1)) {
+          for (int c = 0; c < 3; ++c)
+            sum += std::abs(double(ms.pixel(x, y)[c]) - im.pixel(x, y)[c]);
+          n += 3;
+        }
+    return sum / std::max(1L, n);
+  };
+  const double diff_lines = edge_difference(ln), diff_off = edge_difference(off);
+  std::printf(
+      "antialias lines vs msaa: %ld silhouette px, coverage differs at %ld (%ld more than 1 px "
+      "away); interior %ld px, max channel difference %.0f; blended silhouette px msaa %ld, lines "
+      "%ld, off %ld; mean difference at edges and lines: lines %.1f, off %.1f levels\n",
+      silhouette, cover_diff, cover_far, interior, worst_interior, blended[0], blended[1],
+      blended[2], diff_lines, diff_off);
+  ASSERT_GT(silhouette, 1000);
+  EXPECT_EQ(cover_far, 0);
+  EXPECT_LT(cover_diff, silhouette / 4);
+  EXPECT_GT(interior, 50000);
+  EXPECT_LE(worst_interior, 2.0);
+  EXPECT_GT(blended[1], blended[0] / 2);
+  EXPECT_LT(blended[1], 2 * blended[0]);
+  EXPECT_LT(blended[2], blended[0] / 10);
+  EXPECT_LT(diff_lines, 0.75 * diff_off);  // closer to multisampling than no anti-aliasing
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, Images, ::testing::Values(Backend::Egl, Backend::OSMesa),
-                         [](const auto& param_info) { return std::string(backend_name(param_info.param)); });
+                         [](const auto& param_info) {
+                           return std::string(backend_name(param_info.param));
+                         });
 
 }  // namespace
 }  // namespace capflow::render
