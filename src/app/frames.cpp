@@ -1,5 +1,6 @@
 #include "app/frames.h"
 
+#include "app/cpu_budget.h"
 #include "app/errors.h"
 #include "membrane/membrane.h"
 
@@ -22,17 +23,24 @@ std::unique_ptr<render::RenderThread> start_renderer(const control::ControlOptio
   if (ro.png) dir.subdirectory("frames");
   std::string err;
   if (!ro.IsValid(&err)) throw UserError("render options: " + err);
+  const bool one_rasteriser = render_cpu_defaults();
   auto renderer = std::make_unique<render::RenderThread>();
   try {
-    renderer->start(ro, [say](const std::string& line) {
-      try {
-        say(line);
-      } catch (const std::exception&) {  // the renderer thread must not throw
-      }
-    });
+    renderer->start(
+        ro,
+        [say](const std::string& line) {
+          try {
+            say(line);
+          } catch (const std::exception&) {  // the renderer thread must not throw
+          }
+        },
+        renderer_busy);
   } catch (const std::exception& e) {
     throw OutputError(std::string("cannot render frames: ") + e.what());
   }
+  if (one_rasteriser && renderer->context_info().renderer.find("llvmpipe") != std::string::npos)
+    say("render: llvmpipe with one rasteriser thread (LP_NUM_THREADS=1); the solver leaves it a "
+        "core while a frame is pending");
   return renderer;
 }
 

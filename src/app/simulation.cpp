@@ -13,6 +13,7 @@
 #include <sstream>
 #include <thread>
 
+#include "app/cpu_budget.h"
 #include "app/errors.h"
 #include "app/figure_data.h"
 #include "app/frames.h"
@@ -143,7 +144,7 @@ struct Simulation::Impl {
 
   // The mesh and the capsule at rest (a resume or start.from sets its state afterwards).
   void build_solver() {
-    if (opt.numerics.threads > 0) omp_set_num_threads(opt.numerics.threads);
+    set_solver_threads(opt.numerics.threads);
     mesh = control::make_mesh(opt.mesh);
     cap = std::make_unique<capsule::Capsule>(*mesh, opt.law, opt.flow,
                                              control::dynamics_options(opt));
@@ -387,7 +388,7 @@ struct Simulation::Impl {
       schedule_note = schedule->edit(opt.ca, now);
       stepper->restart();  // Ca may jump here
     }
-    if (opt.numerics.threads > 0) omp_set_num_threads(opt.numerics.threads);
+    set_solver_threads(opt.numerics.threads);
     cadence->edit(before, opt.output, now);
     write_effective_control();
     std::ostringstream m;
@@ -829,6 +830,16 @@ RunSummary Simulation::run(const std::atomic<bool>* stop) {
       std::ostringstream r;
       r << "renderer: " << rs.movie_frames << " movie frames written, solver waited "
         << rs.producer_waits << " times for the renderer";
+      if (rs.movie_frames > 0) {
+        const double n = static_cast<double>(rs.movie_frames);
+        char b[200];
+        std::snprintf(b, sizeof b,
+                      "; ms per frame: upsample %.1f, draw %.1f, overlay %.1f, readback %.1f, "
+                      "PNG %.1f, encode %.1f",
+                      rs.total.upsample_ms / n, rs.total.draw_ms / n, rs.total.overlay_ms / n,
+                      rs.total.readback_ms / n, rs.png_ms / n, rs.encode_ms / n);
+        r << b;
+      }
       const std::string err = s.renderer->error();
       s.renderer.reset();
       s.say(r.str());

@@ -13,7 +13,9 @@
 namespace capflow::render {
 namespace {
 volatile std::sig_atomic_t g_stop = 0;
-extern "C" void on_stop_signal(int) { g_stop = 1; }
+extern "C" void on_stop_signal(int) {
+  g_stop = 1;
+}
 double ms_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -26,16 +28,22 @@ void install_stop_signal_handlers() {
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);
 }
-bool stop_requested() { return g_stop != 0; }
+bool stop_requested() {
+  return g_stop != 0;
+}
 
-RenderThread::~RenderThread() { stop(); }
+RenderThread::~RenderThread() {
+  stop();
+}
 
-void RenderThread::start(const RenderOptions& options, LogFn log) {
+void RenderThread::start(const RenderOptions& options, LogFn log,
+                         std::function<void(bool)> on_busy) {
   if (thread_.joinable()) throw std::logic_error("RenderThread: already started");
   std::string err;
   if (!options.IsValid(&err)) throw std::invalid_argument("render options: " + err);
   opt_ = options;
   log_ = std::move(log);
+  on_busy_ = std::move(on_busy);
   error_.clear();
   stats_ = RenderStats{};
   queue_ = std::make_unique<SnapshotQueue>(static_cast<size_t>(opt_.queue_capacity));
@@ -87,7 +95,8 @@ void RenderThread::start(const RenderOptions& options, LogFn log) {
         if (opt_.png) {
           auto t0 = std::chrono::steady_clock::now();
           char name[64];
-          std::snprintf(name, sizeof name, "/frame_%06ld.png", static_cast<long>(item->snapshot.frame));
+          std::snprintf(name, sizeof name, "/frame_%06ld.png",
+                        static_cast<long>(item->snapshot.frame));
           output::write_png(opt_.png_dir + name, img.width, img.height, img.rgba.data());
           png_ms = ms_since(t0);
         }
@@ -98,6 +107,8 @@ void RenderThread::start(const RenderOptions& options, LogFn log) {
         }
         if (opt_.preview)
           output::write_png_atomic(opt_.preview_path, img.width, img.height, img.rgba.data());
+        if (frames_in_flight_.fetch_sub(1, std::memory_order_relaxed) == 1 && on_busy_)
+          on_busy_(false);
         std::lock_guard<std::mutex> l(mu_);
         ++stats_.movie_frames;
         stats_.total.upsample_ms += t.upsample_ms;
@@ -131,11 +142,17 @@ void RenderThread::fail(const std::string& msg) {
   }
   if (log_) log_("render: error: " + msg);
   queue_->close();  // producers stop blocking and see false
+  if (frames_in_flight_.exchange(0) > 0 && on_busy_) on_busy_(false);
 }
 
 bool RenderThread::submit_frame(Snapshot s) {
-  if (s.frame < 0) throw std::invalid_argument("RenderThread::submit_frame: a movie frame needs its index");
-  return queue_ && queue_->push_frame(std::move(s));
+  if (s.frame < 0)
+    throw std::invalid_argument("RenderThread::submit_frame: a movie frame needs its index");
+  if (!queue_) return false;
+  if (frames_in_flight_.fetch_add(1, std::memory_order_relaxed) == 0 && on_busy_) on_busy_(true);
+  if (queue_->push_frame(std::move(s))) return true;
+  if (frames_in_flight_.fetch_sub(1, std::memory_order_relaxed) == 1 && on_busy_) on_busy_(false);
+  return false;
 }
 
 bool RenderThread::offer_preview(Snapshot s) {

@@ -10,10 +10,10 @@
 //                                      // the MP4 (trailer), join. Idempotent; also run by ~.
 //
 // Per movie frame the thread renders (Renderer), writes <png_dir>/frame_NNNNNN.png when
-// options.png (NNNNNN = the snapshot's frame index, so a resumed run continues the numbering) and appends to the MP4 when options.mp4. A
-// preview is rendered and written atomically to options.preview_path. If rendering or
-// writing fails the thread records the error, closes the queue (producers see false) and
-// finishes the MP4; error() returns the message.
+// options.png (NNNNNN = the snapshot's frame index, so a resumed run continues the numbering) and
+// appends to the MP4 when options.mp4. A preview is rendered and written atomically to
+// options.preview_path. If rendering or writing fails the thread records the error, closes the
+// queue (producers see false) and finishes the MP4; error() returns the message.
 //
 // Signals: install_stop_signal_handlers() makes SIGINT/SIGTERM set a flag that
 // stop_requested() reports; the simulation loop polls it and calls stop(), so a signalled
@@ -35,11 +35,11 @@
 namespace capflow::render {
 
 struct RenderStats {
-  long movie_frames = 0;     // rendered and written movie frames
-  long previews = 0;         // rendered previews
-  long producer_waits = 0;   // times submit_frame() blocked (back-pressure)
-  long previews_replaced = 0;  // previews superseded before being rendered
-  FrameTimings total;        // summed stage times of movie frames (ms)
+  long movie_frames = 0;             // rendered and written movie frames
+  long previews = 0;                 // rendered previews
+  long producer_waits = 0;           // times submit_frame() blocked (back-pressure)
+  long previews_replaced = 0;        // previews superseded before being rendered
+  FrameTimings total;                // summed stage times of movie frames (ms)
   double png_ms = 0, encode_ms = 0;  // summed write times (ms)
 };
 
@@ -52,12 +52,18 @@ class RenderThread {
   RenderThread(const RenderThread&) = delete;
   RenderThread& operator=(const RenderThread&) = delete;
 
-  void start(const RenderOptions& options, LogFn log = nullptr);
+  // on_busy (optional) is called with true when a movie frame is submitted to an idle renderer
+  // and with false when the last submitted frame has been written (from the submitting thread
+  // and from the renderer thread respectively; it must be cheap and thread-safe).
+  void start(const RenderOptions& options, LogFn log = nullptr,
+             std::function<void(bool)> on_busy = nullptr);
   bool submit_frame(Snapshot s);
   bool offer_preview(Snapshot s);
   RenderStats stop();
 
   bool running() const { return thread_.joinable(); }
+  // True from submit_frame() until that frame's files are written (movie frames only).
+  bool busy() const { return frames_in_flight_.load(std::memory_order_relaxed) > 0; }
   std::string error() const;
   ContextInfo context_info() const;
 
@@ -66,12 +72,14 @@ class RenderThread {
   void fail(const std::string& msg);
   RenderOptions opt_;
   LogFn log_;
+  std::function<void(bool)> on_busy_;
   std::unique_ptr<SnapshotQueue> queue_;
   std::thread thread_;
   mutable std::mutex mu_;  // guards error_, info_, stats_
   std::string error_;
   ContextInfo info_;
   RenderStats stats_;
+  std::atomic<int> frames_in_flight_{0};
 };
 
 void install_stop_signal_handlers();  // SIGINT, SIGTERM -> stop_requested() = true

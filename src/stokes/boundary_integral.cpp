@@ -10,6 +10,7 @@
 #include "geometry/surface.h"
 #include "spectral/spectral.h"
 #include "stokes/line_sums.h"
+#include "stokes/thread_cap.h"
 
 namespace capflow::stokes {
 
@@ -154,8 +155,9 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
     far[tier].nq = static_cast<int>(far_basis_[tier].w.size());
     far[tier].d.resize(10, ne * far[tier].nq * far[tier].nq);
   }
+  const int team = team_size();  // this call's threads (stokes/thread_cap.h)
   // one task per (tier, element): the far data is ~5 % of a call, serial it left a core idle
-#pragma omp parallel for schedule(dynamic, 1)
+#pragma omp parallel for schedule(dynamic, 1) num_threads(team)
   for (int task = 0; task < ntiers * ne; ++task) {
     const int tier = task / ne, e = task % ne;
     const FarBasis& fb = far_basis_[tier];
@@ -198,8 +200,8 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
 
   long far_pairs = 0, own_pairs = 0, near_pairs = 0, near_elements = 0, searches = 0;
   double line_flops = 0;
-#pragma omp parallel reduction(+ : far_pairs, own_pairs, near_pairs, near_elements, searches, \
-                                   line_flops)
+#pragma omp parallel num_threads(team) reduction(+ : far_pairs, own_pairs, near_pairs, \
+                                                   near_elements, searches, line_flops)
   {
     thread_local Scratch sc;  // per OpenMP thread, kept across calls (see far above)
     size_scratch(sc, nb, max_lines);
@@ -400,7 +402,7 @@ Matrix3Xd BoundaryOperators::single_layer_gauss(const geometry::Mesh& mesh, cons
   const geometry::QuadratureSurface qs = geometry::sample_gauss(mesh, x, nq);
   const MatrixXd fq = geometry::to_gauss(mesh, f, qs.interp);
   Matrix3Xd out(3, points.cols());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) num_threads(team_size())
   for (int k = 0; k < points.cols(); ++k) {
     Vector3d acc = Vector3d::Zero();
     const Vector3d x0 = points.col(k);

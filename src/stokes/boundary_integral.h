@@ -56,7 +56,8 @@
 // ~1e-5 relative at NB=10).
 //
 // Threading: every call runs an OpenMP loop over targets (omp_get_max_threads threads; the
-// caller limits with omp_set_num_threads). Objects are immutable after construction and
+// caller limits with omp_set_num_threads, and stokes::set_thread_cap caps every call's team from
+// any thread: stokes/thread_cap.h). Objects are immutable after construction and
 // may be used from several threads; each call allocates its own scratch once per thread.
 // Failure modes: wrong matrix sizes or target indices throw std::invalid_argument.
 //

@@ -2,16 +2,19 @@
 // arrives (back-pressure, no drops), previews never block, stop() finalises the movie.
 // This is the test scripts/tsan-render runs under ThreadSanitizer.
 #include <gtest/gtest.h>
+
 #include <sys/wait.h>
 #include <unistd.h>
+#include <mutex>
+#include <vector>
 
 #include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
-#include <thread>
 #include <string>
+#include <thread>
 
 #include "../output/ffprobe_util.h"
 #include "render/render_thread.h"
@@ -21,8 +24,8 @@ namespace capflow::render {
 namespace {
 
 std::string temp_dir(const char* name) {
-  const std::string d = std::string(::testing::TempDir()) + "capflow_" +
-                        std::to_string(::getpid()) + "_" + name;
+  const std::string d =
+      std::string(::testing::TempDir()) + "capflow_" + std::to_string(::getpid()) + "_" + name;
   std::system(("rm -rf '" + d + "' && mkdir -p '" + d + "'").c_str());
   return d;
 }
@@ -70,7 +73,7 @@ TEST(Pipeline, EveryMovieFrameIsRenderedAndEncoded) {
   const RenderStats st = rt.stop();
   EXPECT_EQ(rt.error(), "");
   EXPECT_EQ(st.movie_frames, frames);
-  EXPECT_GT(st.producer_waits, 0);  // the renderer was slower than the producer
+  EXPECT_GT(st.producer_waits, 0);                   // the renderer was slower than the producer
   EXPECT_FALSE(rt.submit_frame(frame_snapshot(0)));  // after stop
   EXPECT_NE(log.find("render: backend"), std::string::npos) << log;
   const auto r = capflow::testing::ffprobe(dir + "/movie.mp4");
@@ -87,6 +90,32 @@ TEST(Pipeline, EveryMovieFrameIsRenderedAndEncoded) {
   EXPECT_TRUE(std::ifstream(dir + "/preview.png").good());
 }
 
+// The busy signal of the CPU budget (app/cpu_budget.h): true when a frame goes to an idle
+// renderer, false when the last frame is written; busy() agrees, and it ends false.
+TEST(Pipeline, BusySignalBracketsTheFramesInFlight) {
+  const std::string dir = temp_dir("busy");
+  RenderThread rt;
+  std::mutex mu;
+  std::vector<bool> events;
+  rt.start(pipeline_options(dir), nullptr, [&](bool busy) {
+    std::lock_guard<std::mutex> l(mu);
+    events.push_back(busy);
+  });
+  EXPECT_FALSE(rt.busy());
+  for (int k = 0; k < 6; ++k) {
+    ASSERT_TRUE(rt.submit_frame(frame_snapshot(k)));
+    EXPECT_TRUE(rt.busy() || k > 0);  // the first frame cannot be written before we look
+  }
+  const RenderStats st = rt.stop();
+  EXPECT_EQ(st.movie_frames, 6);
+  EXPECT_FALSE(rt.busy());
+  std::lock_guard<std::mutex> l(mu);
+  ASSERT_GE(events.size(), 2u);
+  EXPECT_TRUE(events.front());
+  EXPECT_FALSE(events.back());
+  for (size_t k = 1; k < events.size(); ++k) EXPECT_NE(events[k], events[k - 1]) << k;
+}
+
 TEST(Pipeline, SignalledRunEndsWithFinalisedMovie) {
   const std::string dir = temp_dir("signal");
   const pid_t pid = fork();
@@ -99,7 +128,8 @@ TEST(Pipeline, SignalledRunEndsWithFinalisedMovie) {
     o.flush_every = 1000;  // only the clean finish writes the frames out
     rt.start(o);
     long k = 0;
-    while (!stop_requested() && k < 10000) rt.submit_frame(frame_snapshot(static_cast<int>(k++ % 20)));
+    while (!stop_requested() && k < 10000)
+      rt.submit_frame(frame_snapshot(static_cast<int>(k++ % 20)));
     const RenderStats st = rt.stop();
     std::ofstream(dir + "/count") << st.movie_frames;
     _exit(rt.error().empty() ? 0 : 1);

@@ -12,6 +12,7 @@
 #include "geometry/surface.h"
 #include "stokes/boundary_integral.h"
 #include "stokes/kernels.h"
+#include "stokes/thread_cap.h"
 
 using namespace capflow;
 using Eigen::Matrix3d;
@@ -284,4 +285,28 @@ TEST(StokesApi, BuffersKeptAcrossCallsChangeNothing) {
   EXPECT_EQ((ta - first).cwiseAbs().maxCoeff(), 0.0);
   EXPECT_EQ((tb - sb).cwiseAbs().maxCoeff(), 0.0);
   EXPECT_GT(db.cwiseAbs().maxCoeff(), 0.0);
+}
+
+// The thread cap (stokes/thread_cap.h): the team of a call is min(omp_get_max_threads, cap), the
+// cap may come from another thread, and the sums do not depend on the team.
+TEST(StokesApi, ThreadCapLimitsTheTeamAndChangesNothing) {
+  geometry::Mesh mesh(6, 8);
+  const stokes::BoundaryOperators op(mesh);
+  const Matrix3Xd x =
+      geometry::map_points(mesh.reference(), geometry::ellipsoid_map(1.4, 0.9, 1.0));
+  Matrix3Xd f(3, x.cols());
+  for (int m = 0; m < x.cols(); ++m) f.col(m) = Vector3d(x(1, m), std::cos(x(0, m)), 0.5);
+  const int threads = omp_get_max_threads();
+  omp_set_num_threads(2);
+  const Matrix3Xd free_sl = op.single_layer(x, f), free_dl = op.double_layer(x, f);
+  std::thread([] { stokes::set_thread_cap(1); }).join();
+  EXPECT_EQ(stokes::thread_cap(), 1);
+  EXPECT_EQ(stokes::team_size(), 1);
+  EXPECT_EQ((op.single_layer(x, f) - free_sl).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ((op.double_layer(x, f) - free_dl).cwiseAbs().maxCoeff(), 0.0);
+  stokes::set_thread_cap(8);
+  EXPECT_EQ(stokes::team_size(), 2);  // the cap never raises the team
+  stokes::set_thread_cap(0);
+  EXPECT_EQ(stokes::team_size(), 2);
+  omp_set_num_threads(threads);
 }

@@ -1,0 +1,34 @@
+// capflow/app/cpu_budget: how the solver and the renderer share the cores (Milestone 13).
+//
+// The solver's OpenMP team spins at its barriers; when the renderer thread (and llvmpipe's
+// rasteriser threads) run beside a full team, both fight over the cores and each parallel region
+// waits for its descheduled thread. The policy:
+//  * while a movie frame is queued or being rendered (RenderThread's busy signal), the solver's
+//    boundary operators run with one thread fewer (at least one; stokes::set_thread_cap, read
+//    by each operator call, so the change takes effect within a fraction of a millisecond): the
+//    renderer gets a core of its own;
+//  * otherwise the cap is off and the solver uses every thread it was given (numerics.threads;
+//    0: OpenMP's default), so the renderer never holds a core when no frame is pending;
+//  * the renderer works on one core: llvmpipe gets one rasteriser thread (LP_NUM_THREADS=1,
+//    unless the user set it; other drivers ignore it), which runs while the render thread waits
+//    for it.
+// The knobs: numerics.threads (the solver's threads), LP_NUM_THREADS (llvmpipe's), and
+// OMP_WAIT_POLICY (passive waits cost the solver ~10 % without frames here, so it is left to the
+// user).
+#pragma once
+
+namespace capflow::app {
+
+// numerics.threads (at the start and on live edits): the solver's OpenMP threads when > 0
+// (0: OpenMP's default, OMP_NUM_THREADS or all cores); remembered for the cap.
+void set_solver_threads(int threads);
+
+// RenderThread's busy callback: caps the solver's operators at one thread fewer while true.
+// Thread-safe.
+void renderer_busy(bool busy);
+
+// The renderer's one-core default, set in the environment before its GL context exists:
+// LP_NUM_THREADS=1 unless already set (true when this call set it).
+bool render_cpu_defaults();
+
+}  // namespace capflow::app
