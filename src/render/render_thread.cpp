@@ -60,7 +60,10 @@ void RenderThread::start(const RenderOptions& options, LogFn log,
         info_ = renderer->context_info();
       }
       if (log_) {
-        log_(renderer->context_info().summary());
+        std::string aa = std::string("; anti-aliasing ") + antialias_name(renderer->antialias());
+        if (renderer->antialias() == Antialias::Multisample)
+          aa += " (" + std::to_string(renderer->msaa()) + "x)";
+        log_(renderer->context_info().summary() + aa);
         for (const std::string& w : renderer->warnings()) log_("warning: " + w);
       }
       if (opt_.png) ::mkdir(opt_.png_dir.c_str(), 0777);
