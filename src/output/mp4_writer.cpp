@@ -107,8 +107,12 @@ Mp4Writer::Mp4Writer(const std::string& path, const Mp4Options& o) : impl_(new I
     m.frame->height = o.height;
     check(av_frame_get_buffer(m.frame, 0), "frame buffer");
     m.pkt = av_packet_alloc();
+    // RGBA -> yuv420p at the same size: the flag picks the chroma subsampling filter. Measured
+    // on the Milestone 13 movie (PSNR of the movie against the PNG frames / encode ms per frame):
+    // SWS_AREA 44.42 dB / 4.7 ms, SWS_BILINEAR 44.23 / 7.2, SWS_POINT 44.15 / 4.2,
+    // SWS_FAST_BILINEAR 35.97 (docs/performance.md).
     m.sws = sws_getContext(o.width, o.height, AV_PIX_FMT_RGBA, o.width, o.height,
-                           AV_PIX_FMT_YUV420P, SWS_BILINEAR, nullptr, nullptr, nullptr);
+                           AV_PIX_FMT_YUV420P, SWS_AREA, nullptr, nullptr, nullptr);
     if (!m.sws) throw std::runtime_error("mp4: sws_getContext failed");
     m.open = true;
   } catch (...) {
