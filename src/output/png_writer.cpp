@@ -42,8 +42,7 @@ std::unique_ptr<void, decltype(&std::free)> encode(int width, int height, int ch
                             SPNG_FMT_PNG, SPNG_ENCODE_FINALIZE);
   void* buf = nullptr;
   if (!err) buf = spng_get_png_buffer(ctx.get(), length, &err);
-  if (err || !buf)
-    throw std::runtime_error("cannot write PNG " + path + ": " + spng_strerror(err));
+  if (err || !buf) throw std::runtime_error("cannot write PNG " + path + ": " + spng_strerror(err));
   return {buf, &std::free};
 }
 
