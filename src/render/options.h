@@ -48,6 +48,8 @@ struct RenderOptions {
   std::array<float, 3> plain_color{0.85f, 0.62f, 0.45f};  // sRGB, for ColorField::Plain
   std::array<float, 3> background{1.0f, 1.0f, 1.0f};    // sRGB
   bool element_lines = true;    // draw element edges as thin lines
+  bool cull_back_faces = true;  // skip the back faces when the eye is outside the bounding box
+                                // (the same image for a closed surface, a cheaper draw)
   std::array<float, 3> line_color{0.12f, 0.12f, 0.12f};
   bool overlay_colorbar = true;  // labelled colour bar (ignored for ColorField::Plain)
   bool overlay_text = true;      // t, Ca, D, law

@@ -269,7 +269,19 @@ void Renderer::render(const Snapshot& s, Image* out, FrameTimings* timings) {
   glViewport(0, 0, opt_.width, opt_.height);
   glDisable(GL_SCISSOR_TEST);
   glDisable(GL_BLEND);
-  glDisable(GL_CULL_FACE);
+  // A closed surface seen from outside its bounding box shows no back face: cull them (the
+  // triangles are counter-clockwise seen from outside; ~35 % of the draw on llvmpipe). From
+  // inside the box (a custom eye) every face is drawn, the back faces lit from their inner side.
+  bool outside = false;
+  for (int c = 0; c < 3; ++c)
+    outside = outside || camera_.eye[c] < mesh_.bbox_min[c] || camera_.eye[c] > mesh_.bbox_max[c];
+  if (opt_.cull_back_faces && outside) {
+    glEnable(GL_CULL_FACE);
+    glCullFace(GL_BACK);
+    glFrontFace(GL_CCW);
+  } else {
+    glDisable(GL_CULL_FACE);
+  }
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LEQUAL);
   glDepthMask(GL_TRUE);
@@ -302,6 +314,7 @@ void Renderer::render(const Snapshot& s, Image* out, FrameTimings* timings) {
   glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(mesh_.triangles.size()), GL_UNSIGNED_INT,
                  nullptr);
   glDisable(GL_POLYGON_OFFSET_FILL);
+  glDisable(GL_CULL_FACE);
 
   const bool smooth_lines = antialias_ == Antialias::Lines;
   if (smooth_lines) {
