@@ -320,7 +320,8 @@ void Renderer::render(const Snapshot& s, Image* out, FrameTimings* timings) {
   if (smooth_lines) {
     // coverage-blended lines over the finished surface; they do not write depth
     glEnable(GL_BLEND);
-    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+    // colour blended by coverage; the destination alpha stays 1 (an opaque frame)
+    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
     glEnable(GL_LINE_SMOOTH);
     glDepthMask(GL_FALSE);
     draw_outline();

@@ -208,6 +208,9 @@ TEST_P(Images, AntialiasLinesMatchesMultisampling) {
   const Image off = render_with(Antialias::Off, &used_off);
   ASSERT_EQ(used_lines, Antialias::Lines);
   ASSERT_EQ(used_off, Antialias::Off);
+  long translucent = 0;  // the blended lines must leave the frame opaque (PNG alpha)
+  for (size_t k = 3; k < ln.rgba.size(); k += 4) translucent += ln.rgba[k] != 255;
+  EXPECT_EQ(translucent, 0);
   if (used_ms != Antialias::Multisample) GTEST_SKIP() << "no multisampling on this GL";
   const int w = ms.width, h = ms.height;
   auto fg = [](const Image& im, int x, int y) { return !is_background(im.pixel(x, y)); };
