@@ -67,6 +67,21 @@ unsigned program(const std::string& vert, const std::string& frag) {
 constexpr float kOutlineInset = 0.5f;  // pixels
 constexpr float kSmoothLineAlpha = 0.7f;
 
+// Streams the per-vertex attributes into the bound vertex array's buffers: 0 position (3),
+// 1 normal (3), 2 colour-field value (1), as the surface shaders read them.
+void upload_vertices(const unsigned* vbo, const std::vector<float>& position,
+                     const std::vector<float>& normal, const std::vector<float>& value) {
+  const std::vector<float>* attr[3] = {&position, &normal, &value};
+  const int comps[3] = {3, 3, 1};
+  for (int k = 0; k < 3; ++k) {
+    glBindBuffer(GL_ARRAY_BUFFER, vbo[k]);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(attr[k]->size() * sizeof(float)),
+                 attr[k]->data(), GL_STREAM_DRAW);
+    glEnableVertexAttribArray(k);
+    glVertexAttribPointer(k, comps[k], GL_FLOAT, GL_FALSE, 0, nullptr);
+  }
+}
+
 // A software rasteriser: Mesa's llvmpipe / softpipe / swrast, or OSMesa (always software).
 bool is_software(const ContextInfo& info) {
   if (info.backend == Backend::OSMesa) return true;
@@ -192,15 +207,7 @@ void Renderer::draw_outline() {
   if (outline_.segments() == 0) return;
   glUseProgram(surface_prog_);
   glBindVertexArray(outline_vao_);
-  const std::vector<float>* attr[3] = {&outline_.position, &outline_.normal, &outline_.value};
-  const int comps[3] = {3, 3, 1};
-  for (int k = 0; k < 3; ++k) {
-    glBindBuffer(GL_ARRAY_BUFFER, outline_vbo_[k]);
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(attr[k]->size() * sizeof(float)),
-                 attr[k]->data(), GL_STREAM_DRAW);
-    glEnableVertexAttribArray(k);
-    glVertexAttribPointer(k, comps[k], GL_FLOAT, GL_FALSE, 0, nullptr);
-  }
+  upload_vertices(outline_vbo_, outline_.position, outline_.normal, outline_.value);
   glUniform1f(glGetUniformLocation(surface_prog_, "u_inset"), kOutlineInset);
   glLineWidth(1.f);
   glDrawArrays(GL_LINES, 0, 2 * outline_.segments());
@@ -245,15 +252,7 @@ void Renderer::render(const Snapshot& s, Image* out, FrameTimings* timings) {
   t0 = std::chrono::steady_clock::now();
   c0 = process_cpu_ms();
   glBindVertexArray(vao_);
-  const std::vector<float>* attr[3] = {&mesh_.position, &mesh_.normal, &mesh_.value};
-  const int comps[3] = {3, 3, 1};
-  for (int k = 0; k < 3; ++k) {
-    glBindBuffer(GL_ARRAY_BUFFER, vbo_[k]);
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(attr[k]->size() * sizeof(float)),
-                 attr[k]->data(), GL_STREAM_DRAW);
-    glEnableVertexAttribArray(k);
-    glVertexAttribPointer(k, comps[k], GL_FLOAT, GL_FALSE, 0, nullptr);
-  }
+  upload_vertices(vbo_, mesh_.position, mesh_.normal, mesh_.value);
   if (uploaded_indices_ != mesh_.triangles.size()) {
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ebo_tri_);
     glBufferData(GL_ELEMENT_ARRAY_BUFFER,
