@@ -25,22 +25,21 @@ std::unique_ptr<render::RenderThread> start_renderer(const control::ControlOptio
   if (!ro.IsValid(&err)) throw UserError("render options: " + err);
   const bool one_rasteriser = render_cpu_defaults();
   auto renderer = std::make_unique<render::RenderThread>();
-  try {
-    renderer->start(
-        ro,
-        [say](const std::string& line) {
-          try {
-            say(line);
-          } catch (const std::exception&) {  // the renderer thread must not throw
-          }
-        },
-        renderer_busy);
-  } catch (const std::exception& e) {
-    throw OutputError(std::string("cannot render frames: ") + e.what());
-  }
-  if (one_rasteriser && renderer->context_info().renderer.find("llvmpipe") != std::string::npos)
-    say("render: llvmpipe with one rasteriser thread (LP_NUM_THREADS=1); the solver leaves it a "
-        "core while a frame is pending");
+  // The renderer sets itself up (loading the GL driver is the larger part of a short run's
+  // frame cost) while the solver builds and starts stepping; a set-up error reaches the run at
+  // its next frame (submit_frame() returns false with the renderer's error()).
+  renderer->launch(
+      ro,
+      [say](const std::string& line) {
+        try {
+          say(line);
+        } catch (const std::exception&) {  // the renderer thread must not throw
+        }
+      },
+      renderer_busy);
+  if (one_rasteriser)
+    say("render: LP_NUM_THREADS=1 (llvmpipe rasterises in one thread); the solver leaves the "
+        "renderer a core while a frame is pending");
   return renderer;
 }
 

@@ -18,7 +18,8 @@ namespace capflow::app {
 // The renderer thread for the run directory: PNGs in frames/ (output.png), the movie
 // `movie_name` (output.mp4), the live preview (render.preview); with the control file's render
 // and output.mp4 settings. `frames`: false when the run writes no frames (only the preview).
-// Null when neither frames nor a preview are wanted. OutputError when the renderer cannot start.
+// Null when neither frames nor a preview are wanted. The renderer sets itself up in its thread
+// while the caller goes on; if that fails, submit_frame() returns false and error() says why.
 std::unique_ptr<render::RenderThread> start_renderer(const control::ControlOptions& options,
                                                      RunDirectory& dir,
                                                      const std::string& movie_name, bool frames,

@@ -38,6 +38,12 @@ RenderThread::~RenderThread() {
 
 void RenderThread::start(const RenderOptions& options, LogFn log,
                          std::function<void(bool)> on_busy) {
+  launch(options, std::move(log), std::move(on_busy));
+  wait_ready();
+}
+
+void RenderThread::launch(const RenderOptions& options, LogFn log,
+                          std::function<void(bool)> on_busy) {
   if (thread_.joinable()) throw std::logic_error("RenderThread: already started");
   std::string err;
   if (!options.IsValid(&err)) throw std::invalid_argument("render options: " + err);
@@ -48,93 +54,114 @@ void RenderThread::start(const RenderOptions& options, LogFn log,
   stats_ = RenderStats{};
   queue_ = std::make_unique<SnapshotQueue>(static_cast<size_t>(opt_.queue_capacity));
   std::promise<void> ready;
-  std::future<void> ready_f = ready.get_future();
-  thread_ = std::thread([this, p = std::move(ready)]() mutable {
-    // The GL context, the writers and everything using them live in this thread only.
-    std::unique_ptr<Renderer> renderer;
-    std::unique_ptr<output::Mp4Writer> mp4;
-    try {
-      renderer = std::make_unique<Renderer>(opt_);
-      {
-        std::lock_guard<std::mutex> l(mu_);
-        info_ = renderer->context_info();
-      }
-      if (log_) {
-        std::string aa = std::string("; anti-aliasing ") + antialias_name(renderer->antialias());
-        if (renderer->antialias() == Antialias::Multisample)
-          aa += " (" + std::to_string(renderer->msaa()) + "x)";
-        log_(renderer->context_info().summary() + aa);
-        for (const std::string& w : renderer->warnings()) log_("warning: " + w);
-      }
-      if (opt_.png) ::mkdir(opt_.png_dir.c_str(), 0777);
-      if (opt_.mp4) {
-        output::Mp4Options mo;
-        mo.width = opt_.width;
-        mo.height = opt_.height;
-        mo.fps = opt_.fps;
-        mo.crf = opt_.crf;
-        mo.preset = opt_.preset;
-        mo.flush_every = opt_.flush_every;
-        mp4 = std::make_unique<output::Mp4Writer>(opt_.mp4_path, mo);
-      }
-    } catch (...) {
-      p.set_exception(std::current_exception());
-      return;
+  ready_ = ready.get_future().share();
+  // Making the context (loading the driver), the shaders and the writers is the renderer's
+  // work like a frame: it counts as one in flight, so the solver leaves it a core meanwhile.
+  frames_in_flight_.store(1, std::memory_order_relaxed);
+  if (on_busy_) on_busy_(true);
+  thread_ = std::thread([this, p = std::move(ready)]() mutable { run(std::move(p)); });
+}
+
+void RenderThread::wait_ready() {
+  if (!ready_.valid()) throw std::logic_error("RenderThread: not launched");
+  try {
+    ready_.get();
+  } catch (...) {
+    if (thread_.joinable()) thread_.join();
+    throw;
+  }
+}
+
+void RenderThread::frame_done() {
+  // Never below 0: fail() zeroes the count while a producer's refused frame may still be
+  // counted out here.
+  int n = frames_in_flight_.load(std::memory_order_relaxed);
+  while (n > 0 && !frames_in_flight_.compare_exchange_weak(n, n - 1, std::memory_order_relaxed)) {
+  }
+  if (n == 1 && on_busy_) on_busy_(false);
+}
+
+void RenderThread::run(std::promise<void> ready) {
+  // The GL context, the writers and everything using them live in this thread only.
+  std::unique_ptr<Renderer> renderer;
+  std::unique_ptr<output::Mp4Writer> mp4;
+  try {
+    renderer = std::make_unique<Renderer>(opt_);
+    {
+      std::lock_guard<std::mutex> l(mu_);
+      info_ = renderer->context_info();
     }
-    p.set_value();
-    Image img;
-    try {
-      while (auto item = queue_->pop()) {
-        FrameTimings t;
-        renderer->render(item->snapshot, &img, &t);
-        if (item->lane == SnapshotQueue::Lane::Preview) {
-          if (opt_.preview)
-            output::write_png_atomic(opt_.preview_path, img.width, img.height, img.rgba.data());
-          std::lock_guard<std::mutex> l(mu_);
-          ++stats_.previews;
-          continue;
-        }
-        double png_ms = 0, enc_ms = 0;
-        if (opt_.png) {
-          auto t0 = std::chrono::steady_clock::now();
-          char name[64];
-          std::snprintf(name, sizeof name, "/frame_%06ld.png",
-                        static_cast<long>(item->snapshot.frame));
-          output::write_png(opt_.png_dir + name, img.width, img.height, img.rgba.data());
-          png_ms = ms_since(t0);
-        }
-        if (mp4) {
-          auto t0 = std::chrono::steady_clock::now();
-          mp4->add_frame(img.rgba.data());
-          enc_ms = ms_since(t0);
-        }
+    if (log_) {
+      std::string aa = std::string("; anti-aliasing ") + antialias_name(renderer->antialias());
+      if (renderer->antialias() == Antialias::Multisample)
+        aa += " (" + std::to_string(renderer->msaa()) + "x)";
+      log_(renderer->context_info().summary() + aa);
+      for (const std::string& w : renderer->warnings()) log_("warning: " + w);
+    }
+    if (opt_.png) ::mkdir(opt_.png_dir.c_str(), 0777);
+    if (opt_.mp4) {
+      output::Mp4Options mo;
+      mo.width = opt_.width;
+      mo.height = opt_.height;
+      mo.fps = opt_.fps;
+      mo.crf = opt_.crf;
+      mo.preset = opt_.preset;
+      mo.flush_every = opt_.flush_every;
+      mp4 = std::make_unique<output::Mp4Writer>(opt_.mp4_path, mo);
+    }
+  } catch (const std::exception& e) {
+    fail(std::string("cannot start the renderer: ") + e.what());  // closes the queue: frames
+                                                                  // submitted meanwhile fail
+    ready.set_exception(std::current_exception());
+    return;
+  }
+  frame_done();  // the set-up
+  ready.set_value();
+  Image img;
+  try {
+    while (auto item = queue_->pop()) {
+      FrameTimings t;
+      renderer->render(item->snapshot, &img, &t);
+      if (item->lane == SnapshotQueue::Lane::Preview) {
         if (opt_.preview)
           output::write_png_atomic(opt_.preview_path, img.width, img.height, img.rgba.data());
-        if (frames_in_flight_.fetch_sub(1, std::memory_order_relaxed) == 1 && on_busy_)
-          on_busy_(false);
         std::lock_guard<std::mutex> l(mu_);
-        ++stats_.movie_frames;
-        stats_.total.upsample_ms += t.upsample_ms;
-        stats_.total.draw_ms += t.draw_ms;
-        stats_.total.overlay_ms += t.overlay_ms;
-        stats_.total.readback_ms += t.readback_ms;
-        stats_.png_ms += png_ms;
-        stats_.encode_ms += enc_ms;
+        ++stats_.previews;
+        continue;
       }
-      if (mp4) mp4->finish();
-    } catch (const std::exception& e) {
-      fail(e.what());
-      try {
-        if (mp4) mp4->finish();
-      } catch (...) {
+      double png_ms = 0, enc_ms = 0;
+      if (opt_.png) {
+        auto t0 = std::chrono::steady_clock::now();
+        char name[64];
+        std::snprintf(name, sizeof name, "/frame_%06ld.png",
+                      static_cast<long>(item->snapshot.frame));
+        output::write_png(opt_.png_dir + name, img.width, img.height, img.rgba.data());
+        png_ms = ms_since(t0);
       }
+      if (mp4) {
+        auto t0 = std::chrono::steady_clock::now();
+        mp4->add_frame(img.rgba.data());
+        enc_ms = ms_since(t0);
+      }
+      if (opt_.preview)
+        output::write_png_atomic(opt_.preview_path, img.width, img.height, img.rgba.data());
+      frame_done();
+      std::lock_guard<std::mutex> l(mu_);
+      ++stats_.movie_frames;
+      stats_.total.upsample_ms += t.upsample_ms;
+      stats_.total.draw_ms += t.draw_ms;
+      stats_.total.overlay_ms += t.overlay_ms;
+      stats_.total.readback_ms += t.readback_ms;
+      stats_.png_ms += png_ms;
+      stats_.encode_ms += enc_ms;
     }
-  });
-  try {
-    ready_f.get();
-  } catch (...) {
-    thread_.join();
-    throw;
+    if (mp4) mp4->finish();
+  } catch (const std::exception& e) {
+    fail(e.what());
+    try {
+      if (mp4) mp4->finish();
+    } catch (...) {
+    }
   }
 }
 
@@ -154,7 +181,7 @@ bool RenderThread::submit_frame(Snapshot s) {
   if (!queue_) return false;
   if (frames_in_flight_.fetch_add(1, std::memory_order_relaxed) == 0 && on_busy_) on_busy_(true);
   if (queue_->push_frame(std::move(s))) return true;
-  if (frames_in_flight_.fetch_sub(1, std::memory_order_relaxed) == 1 && on_busy_) on_busy_(false);
+  frame_done();
   return false;
 }
 
@@ -163,7 +190,8 @@ bool RenderThread::offer_preview(Snapshot s) {
 }
 
 RenderStats RenderThread::stop() {
-  if (thread_.joinable()) {
+  if (thread_.joinable()) {  // also while the set-up runs: it finishes (or fails), then the loop
+                             // drains the queue
     queue_->close();
     thread_.join();
   }

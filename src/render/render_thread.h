@@ -3,6 +3,9 @@
 //   RenderThread rt;
 //   rt.start(options, log);            // spawns the thread; returns once its GL context,
 //                                      // shaders and writers are ready (or throws their error)
+//   (or rt.launch(options, log) ... rt.wait_ready(): the set-up runs while the caller goes on;
+//    frames may be submitted before it is ready; if it fails the queue is closed, so
+//    submit_frame() returns false and error() names the cause)
 //   rt.submit_frame(snapshot);         // movie frame: BLOCKS while `queue_capacity` frames wait
 //                                      // (back-pressure: frames are never dropped)
 //   rt.offer_preview(snapshot);        // live preview: never blocks, only the latest is kept
@@ -23,6 +26,7 @@
 
 #include <atomic>
 #include <functional>
+#include <future>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -55,26 +59,34 @@ class RenderThread {
   // on_busy (optional) is called with true when a movie frame is submitted to an idle renderer
   // and with false when the last submitted frame has been written (from the submitting thread
   // and from the renderer thread respectively; it must be cheap and thread-safe).
+  // The set-up counts as a frame in flight: on_busy(true) when it begins, (false) when it and
+  // every frame submitted meanwhile are done.
   void start(const RenderOptions& options, LogFn log = nullptr,
              std::function<void(bool)> on_busy = nullptr);
+  void launch(const RenderOptions& options, LogFn log = nullptr,
+              std::function<void(bool)> on_busy = nullptr);
+  void wait_ready();  // rethrows the set-up's error
   bool submit_frame(Snapshot s);
   bool offer_preview(Snapshot s);
   RenderStats stop();
 
   bool running() const { return thread_.joinable(); }
-  // True from submit_frame() until that frame's files are written (movie frames only).
+  // True while the set-up runs and from submit_frame() until that frame's files are written
+  // (movie frames only).
   bool busy() const { return frames_in_flight_.load(std::memory_order_relaxed) > 0; }
   std::string error() const;
   ContextInfo context_info() const;
 
  private:
-  void run();
+  void run(std::promise<void> ready);
   void fail(const std::string& msg);
+  void frame_done();  // one frame (or the set-up) fewer in flight
   RenderOptions opt_;
   LogFn log_;
   std::function<void(bool)> on_busy_;
   std::unique_ptr<SnapshotQueue> queue_;
   std::thread thread_;
+  std::shared_future<void> ready_;
   mutable std::mutex mu_;  // guards error_, info_, stats_
   std::string error_;
   ContextInfo info_;

@@ -5,6 +5,7 @@
 
 #include <sys/wait.h>
 #include <unistd.h>
+#include <atomic>
 #include <mutex>
 #include <vector>
 
@@ -114,6 +115,54 @@ TEST(Pipeline, BusySignalBracketsTheFramesInFlight) {
   EXPECT_TRUE(events.front());
   EXPECT_FALSE(events.back());
   for (size_t k = 1; k < events.size(); ++k) EXPECT_NE(events[k], events[k - 1]) << k;
+}
+
+// launch(): the set-up (context, shaders, writers) runs in the renderer thread while the caller
+// goes on and counts as busy; frames submitted before it is ready are all written.
+TEST(Pipeline, LaunchedRendererTakesFramesWhileItSetsUp) {
+  const std::string dir = temp_dir("launch");
+  RenderThread rt;
+  std::mutex mu;
+  std::vector<bool> events;
+  rt.launch(pipeline_options(dir), nullptr, [&](bool busy) {
+    std::lock_guard<std::mutex> l(mu);
+    events.push_back(busy);
+  });
+  {
+    std::lock_guard<std::mutex> l(mu);
+    ASSERT_EQ(events.size(), 1u);  // signalled before launch() returns
+    EXPECT_TRUE(events.front());
+  }
+  for (int k = 0; k < 4; ++k) ASSERT_TRUE(rt.submit_frame(frame_snapshot(k)));
+  rt.wait_ready();
+  const RenderStats st = rt.stop();
+  EXPECT_EQ(st.movie_frames, 4);
+  EXPECT_TRUE(rt.error().empty()) << rt.error();
+  EXPECT_FALSE(rt.busy());
+  std::lock_guard<std::mutex> l(mu);
+  EXPECT_FALSE(events.back());
+  const auto r = capflow::testing::ffprobe(dir + "/movie.mp4");
+  ASSERT_TRUE(r.ok) << r.raw;
+  EXPECT_EQ(r.packets, 4);
+}
+
+// A set-up that fails in the background (here: the movie's directory does not exist) reaches
+// the producer: wait_ready() rethrows, submit_frame() returns false, error() says why, and the
+// busy signal ends false.
+TEST(Pipeline, BackgroundSetUpFailureReachesTheProducer) {
+  const std::string dir = temp_dir("launch_fail");
+  RenderOptions o = pipeline_options(dir);
+  o.mp4_path = dir + "/missing/movie.mp4";
+  RenderThread rt;
+  std::atomic<bool> last{true};
+  rt.launch(o, nullptr, [&](bool busy) { last = busy; });
+  rt.submit_frame(frame_snapshot(0));  // may be taken (queued) or refused: the set-up races
+  EXPECT_THROW(rt.wait_ready(), std::exception);
+  EXPECT_FALSE(rt.submit_frame(frame_snapshot(1)));
+  EXPECT_NE(rt.error().find("cannot start the renderer"), std::string::npos) << rt.error();
+  EXPECT_FALSE(rt.busy());
+  EXPECT_FALSE(last.load());
+  EXPECT_EQ(rt.stop().movie_frames, 0);
 }
 
 TEST(Pipeline, SignalledRunEndsWithFinalisedMovie) {
