@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 
@@ -109,6 +110,80 @@ TEST_P(Images, ConstantFieldRendersUniformHueOfTheColormapLevel) {
     }
   EXPECT_GT(counted, 10000);
   EXPECT_LT(worst, 3.0) << "degrees of hue; expected hue " << want_h;
+}
+
+// The lighting model of shaders/surface.vert (Blinn-Phong, two white lights fixed to the camera),
+// evaluated exactly at a surface point: eye-space unit normal n, view direction v, base colour.
+std::array<double, 3> exact_lit(const std::array<float, 3>& base, const double n[3],
+                                const double v[3]) {
+  auto unit = [](double x, double y, double z) {
+    const double r = std::sqrt(x * x + y * y + z * z);
+    return std::array<double, 3>{x / r, y / r, z / r};
+  };
+  const auto key_dir = unit(0.0, 0.55, 1.0), fill_dir = unit(0.0, -0.7, 0.6);
+  const auto half = unit(key_dir[0] + v[0], key_dir[1] + v[1], key_dir[2] + v[2]);
+  auto dot = [n](const std::array<double, 3>& a) {
+    return n[0] * a[0] + n[1] * a[1] + n[2] * a[2];
+  };
+  const double d = 0.28 + 0.62 * std::max(dot(key_dir), 0.0) + 0.22 * std::max(dot(fill_dir), 0.0);
+  const double sp = 0.16 * std::pow(std::max(dot(half), 0.0), 48.0);
+  return {std::min(base[0] * d + sp, 1.0), std::min(base[1] * d + sp, 1.0),
+          std::min(base[2] * d + sp, 1.0)};
+}
+
+// Every interior pixel of a unit sphere seen along z (orthographic, view XY: x right, y up, the
+// eye on +z) carrying the field tau = x has the colour of the lighting model evaluated exactly at
+// the surface point under the pixel centre, with the colour-map level of x there; pixels within
+// 4 % of the radius of the silhouette are left out (the disc's centre and radius are measured
+// from the image, to a fraction of a pixel).
+TEST_P(Images, ShadingMatchesTheLightingModelAtTheExactSurfacePoint) {
+  require_backend(GetParam());
+  RenderOptions o = base();
+  o.camera.view = View::XY;
+  o.camera.orthographic = true;
+  o.auto_range = false;
+  o.range_min = -1;
+  o.range_max = 1;
+  o.width = 1280;  // the sphere ~700 px across: each upsampled triangle spans ~10 px
+  o.height = 960;
+  Renderer r(o);
+  Image img;
+  r.render(shape_snapshot(6, 10, geometry::ellipsoid_map(1, 1, 1),
+                          [](double x, double, double) { return x; }),
+           &img);
+  double sx = 0, sy = 0, area = 0;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x)
+      if (!is_background(img.pixel(x, y))) {
+        sx += x + 0.5;
+        sy += y + 0.5;
+        area += 1;
+      }
+  ASSERT_GT(area, 20000);
+  const double cx = sx / area, cy = sy / area, radius = std::sqrt(area / M_PI);
+  const double v[3] = {0, 0, 1};
+  int counted = 0, over2 = 0;
+  double worst = 0, sum = 0;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const double px = (x + 0.5 - cx) / radius, py = (cy - y - 0.5) / radius;
+      const double rr = px * px + py * py;
+      if (rr > 0.96 * 0.96) continue;
+      const double n[3] = {px, py, std::sqrt(1 - rr)};
+      const auto want = exact_lit(r.colormap().at((px + 1) / 2), n, v);
+      const uint8_t* p = img.pixel(x, y);
+      double e = 0;
+      for (int c = 0; c < 3; ++c) e = std::max(e, std::abs(p[c] - 255.0 * want[c]));
+      worst = std::max(worst, e);
+      sum += e;
+      over2 += e > 2.5;
+      ++counted;
+    }
+  std::printf("shading: %d pixels, |colour - exact| mean %.2f, max %.2f levels, %d above 2.5\n",
+              counted, sum / counted, worst, over2);
+  EXPECT_LT(sum / counted, 1.0);
+  EXPECT_LT(worst, 4.0);
+  EXPECT_LT(over2, 0.01 * counted);
 }
 
 TEST_P(Images, MirrorSymmetricShapeAndViewGiveMirrorSymmetricImage) {
