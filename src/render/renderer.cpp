@@ -68,15 +68,21 @@ constexpr float kOutlineInset = 0.5f;  // pixels
 constexpr float kSmoothLineAlpha = 0.7f;
 
 // Streams the per-vertex attributes into the bound vertex array's buffers: 0 position (3),
-// 1 normal (3), 2 colour-field value (1), as the surface shaders read them.
-void upload_vertices(const unsigned* vbo, const std::vector<float>& position,
+// 1 normal (3), 2 colour-field value (1), as the surface shaders read them. A buffer keeps its
+// storage while the data fits (capacity[k], bytes): a software driver allocates fresh storage
+// for every glBufferData, and fresh pages fault in on first touch.
+void upload_vertices(const unsigned* vbo, size_t* capacity, const std::vector<float>& position,
                      const std::vector<float>& normal, const std::vector<float>& value) {
   const std::vector<float>* attr[3] = {&position, &normal, &value};
   const int comps[3] = {3, 3, 1};
   for (int k = 0; k < 3; ++k) {
     glBindBuffer(GL_ARRAY_BUFFER, vbo[k]);
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(attr[k]->size() * sizeof(float)),
-                 attr[k]->data(), GL_STREAM_DRAW);
+    const size_t bytes = attr[k]->size() * sizeof(float);
+    if (bytes > capacity[k]) {
+      capacity[k] = bytes + bytes / 4;  // room for a longer outline next frame
+      glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(capacity[k]), nullptr, GL_DYNAMIC_DRAW);
+    }
+    glBufferSubData(GL_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(bytes), attr[k]->data());
     glEnableVertexAttribArray(k);
     glVertexAttribPointer(k, comps[k], GL_FLOAT, GL_FALSE, 0, nullptr);
   }
@@ -207,7 +213,8 @@ void Renderer::draw_outline() {
   if (outline_.segments() == 0) return;
   glUseProgram(surface_prog_);
   glBindVertexArray(outline_vao_);
-  upload_vertices(outline_vbo_, outline_.position, outline_.normal, outline_.value);
+  upload_vertices(outline_vbo_, outline_capacity_, outline_.position, outline_.normal,
+                  outline_.value);
   glUniform1f(glGetUniformLocation(surface_prog_, "u_inset"), kOutlineInset);
   glLineWidth(1.f);
   glDrawArrays(GL_LINES, 0, 2 * outline_.segments());
@@ -252,7 +259,7 @@ void Renderer::render(const Snapshot& s, Image* out, FrameTimings* timings) {
   t0 = std::chrono::steady_clock::now();
   c0 = process_cpu_ms();
   glBindVertexArray(vao_);
-  upload_vertices(vbo_, mesh_.position, mesh_.normal, mesh_.value);
+  upload_vertices(vbo_, vbo_capacity_, mesh_.position, mesh_.normal, mesh_.value);
   if (uploaded_indices_ != mesh_.triangles.size()) {
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ebo_tri_);
     glBufferData(GL_ELEMENT_ARRAY_BUFFER,

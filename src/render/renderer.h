@@ -87,11 +87,13 @@ class Renderer {
   double vmin_ = 0, vmax_ = 1;
   unsigned surface_prog_ = 0, lines_prog_ = 0;
   unsigned vao_ = 0, vbo_[3] = {0, 0, 0}, ebo_tri_ = 0, ebo_lines_ = 0, cmap_tex_ = 0;
+  size_t vbo_capacity_[3] = {0, 0, 0};  // bytes of storage in vbo_ (upload_vertices)
   unsigned msaa_fbo_ = 0, msaa_rb_[2] = {0, 0}, fbo_ = 0, rb_[2] = {0, 0};
   int msaa_used_ = 0;
   Antialias antialias_ = Antialias::Off;
   OutlineLines outline_;  // Antialias::Lines: the outline of the last frame
   unsigned outline_vao_ = 0, outline_vbo_[3] = {0, 0, 0};
+  size_t outline_capacity_[3] = {0, 0, 0};
   std::vector<std::string> warnings_;
   size_t uploaded_indices_ = 0;
   std::vector<uint8_t> readback_;
