@@ -43,7 +43,7 @@ int SteadySummary::exit_code() const {
 namespace {
 
 constexpr double kApproachSpeed = 2e-2;   // largest node speed (a G) that ends the approach
-constexpr double kMapStepFactor = 0.7;    // RK4 map step / adaptive (Cash-Karp) steps
+constexpr double kMapStepFactor = 0.5;    // midpoint map step / adaptive (Cash-Karp) steps
 constexpr double kMaxApproachTime = 400;  // simulated time the approach may take per level
 constexpr int kSolveAttempts = 3;
 constexpr int kMinApproachSteps = 10;  // for the controller to reach the stability limit
@@ -579,7 +579,7 @@ class SteadyRun {
     long krylov = 0;
   };
 
-  // The continuation's corrector: the RK4 map step from adaptive steps measured near this Ca
+  // The continuation's corrector: the midpoint map step from adaptive steps measured near this Ca
   // (again when Ca moved by more than 20 % since), then Newton on the hyperplane.
   std::optional<capsule::BranchPoint> correct(const capsule::BranchPoint& p,
                                               const capsule::BranchPoint& normal, Corrections* k,

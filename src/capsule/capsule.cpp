@@ -161,6 +161,12 @@ Eigen::Matrix3Xd Capsule::rk4_step(const Eigen::Matrix3Xd& x0, double t, double 
   return x;
 }
 
+Eigen::Matrix3Xd Capsule::midpoint_step(const Eigen::Matrix3Xd& x0, double dt, double ca) const {
+  Eigen::Matrix3Xd x = x0 + dt * velocity(x0 + 0.5 * dt * velocity(x0, ca), ca);
+  finish_step(&x);
+  return x;
+}
+
 void Capsule::step(double dt, const CaFunction& ca) {
   const double t = t_;
   accept_step(rk4_step(x_, t, dt, ca), t + dt);

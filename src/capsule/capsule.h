@@ -109,6 +109,10 @@ class Capsule {
   // step map of the steady solver and the stability study.
   Eigen::Matrix3Xd rk4_step(const Eigen::Matrix3Xd& x, double t, double dt,
                             const CaFunction& ca) const;
+  // The state one explicit midpoint (second-order Runge-Kutta) step of size dt after x, at
+  // capillary number ca, finished (finish_step): the step map of the steady solver, at two
+  // velocity evaluations.
+  Eigen::Matrix3Xd midpoint_step(const Eigen::Matrix3Xd& x, double dt, double ca) const;
   // What ends every step: smoothing of x (options().smooth_geometry) and the optional volume
   // correction. Used by step() and by the adaptive stepper (capsule/adaptive_stepper.h).
   void finish_step(Eigen::Matrix3Xd* x) const;

@@ -18,7 +18,7 @@ Eigen::Map<Eigen::VectorXd> view(N_Vector v) {
   return {N_VGetArrayPointer(v), static_cast<Eigen::Index>(N_VGetLength(v))};
 }
 
-// The fixed-point residual of the RK4 map on the reduced node set.
+// The fixed-point residual of the midpoint step map on the reduced node set.
 class StepMap {
  public:
   StepMap(const Capsule& cap, double h) : cap_(cap), h_(h) {}
@@ -38,7 +38,7 @@ class StepMap {
   // F(y) = (P(Phi_h(E y)) - E y)|targets / h.
   Eigen::VectorXd residual(const Eigen::VectorXd& y, double ca) const {
     if (!(ca > 0)) throw std::domain_error("Ca <= 0 in the Newton iteration");
-    Eigen::Matrix3Xd x1 = cap_.rk4_step(expand(y), 0.0, h_, [ca](double) { return ca; });
+    Eigen::Matrix3Xd x1 = cap_.midpoint_step(expand(y), h_, ca);
     x1 = rescale_to_volume(cap_.mesh(), x1, cap_.initial_volume());
     return (reduce(x1) - y) / h_;
   }

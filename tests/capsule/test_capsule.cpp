@@ -3,14 +3,15 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <random>
 
+#include "../membrane/membrane_test_util.h"
 #include "capsule/capsule.h"
 #include "capsule/health.h"
 #include "geometry/shapes.h"
 #include "geometry/surface.h"
 #include "spectral/spectral.h"
-#include "../membrane/membrane_test_util.h"
 
 using namespace capflow;
 using namespace capflow::capsule;
@@ -18,13 +19,14 @@ using namespace capflow::capsule;
 namespace {
 // A deformed state with the symmetries of the flow (a smooth map of the sphere).
 Eigen::Matrix3Xd deformed(const geometry::Mesh& mesh, bool shear) {
-  return geometry::map_points(mesh.reference(), [shear](const Eigen::Vector3d& p) -> Eigen::Vector3d {
-    if (!shear) return {1.2 * p.x() * (1 + 0.1 * p.y() * p.y()), 0.85 * p.y(), 1.02 * p.z()};
-    // Tilted ellipsoid in the x-z plane: symmetric under y -> -y and (x,z) -> (-x,-z).
-    const double c = std::cos(0.4), s = std::sin(0.4);
-    const Eigen::Vector3d q(1.3 * p.x(), 0.95 * p.y(), 0.8 * p.z());
-    return {c * q.x() - s * q.z(), q.y(), s * q.x() + c * q.z()};
-  });
+  return geometry::map_points(
+      mesh.reference(), [shear](const Eigen::Vector3d& p) -> Eigen::Vector3d {
+        if (!shear) return {1.2 * p.x() * (1 + 0.1 * p.y() * p.y()), 0.85 * p.y(), 1.02 * p.z()};
+        // Tilted ellipsoid in the x-z plane: symmetric under y -> -y and (x,z) -> (-x,-z).
+        const double c = std::cos(0.4), s = std::sin(0.4);
+        const Eigen::Vector3d q(1.3 * p.x(), 0.95 * p.y(), 0.8 * p.z());
+        return {c * q.x() - s * q.z(), q.y(), s * q.x() + c * q.z()};
+      });
 }
 }  // namespace
 
@@ -67,7 +69,8 @@ TEST(Capsule, CustomGradientsGetTheSymmetryTheyHave) {
     Eigen::Matrix3d g;
     SymmetryKind kind;
     bool shear_state;
-  } cases[] = {{uni, SymmetryKind::Octant, false}, {xz, SymmetryKind::Shear, true},
+  } cases[] = {{uni, SymmetryKind::Octant, false},
+               {xz, SymmetryKind::Shear, true},
                {coupled, SymmetryKind::None, true}};
   for (const auto& c : cases) {
     Capsule cap(mesh, membrane::LawOptions{}, Flow::custom(c.g));
@@ -218,7 +221,8 @@ TEST(Health, ResolutionWarningWhenTheNormalTurnsTooFastBetweenNodes) {
   opt.oscillation_fail = 2.0;
   HealthMonitor hm2(coarse, thin, opt);
   int node = -1;
-  const double turn = geometry::max_normal_turning(coarse, geometry::compute_geometry(coarse, thin).n, &node);
+  const double turn =
+      geometry::max_normal_turning(coarse, geometry::compute_geometry(coarse, thin).n, &node);
   EXPECT_GT(turn, opt.resolution_warn_angle);
   EXPECT_GT(std::abs(thin(0, node)), 2.0);  // at a tip
   HealthReport r = hm2.check(thin, 1.5);
@@ -255,8 +259,8 @@ TEST(Capsule, MembraneLoadIsForceAndTorqueFreeWithTheSmoothedTangents) {
   // small: tests/membrane, MembraneValidation.ForceAndTorqueBalanceConvergeInNB).
   const geometry::PointMap skew = membrane::testing::skew_map();
   for (int ne : {6, 10, 14})
-    for (const membrane::LawKind kind :
-         {membrane::LawKind::Skalak, membrane::LawKind::NeoHookean, membrane::LawKind::MooneyRivlin}) {
+    for (const membrane::LawKind kind : {membrane::LawKind::Skalak, membrane::LawKind::NeoHookean,
+                                         membrane::LawKind::MooneyRivlin}) {
       const geometry::Mesh mesh(ne, 12);
       membrane::LawOptions law;
       law.kind = kind;
@@ -284,4 +288,31 @@ TEST(Capsule, MembraneLoadIsForceAndTorqueFreeWithTheSmoothedTangents) {
       EXPECT_LT(force.norm(), 1e-12 * total) << "NE=" << ne;
       EXPECT_LT(torque.norm(), 1e-11 * total) << "NE=" << ne;
     }
+}
+
+// The steady solver's step map (capsule/steady_solver.h): one explicit midpoint step has a local
+// error O(dt^3) against the exact flow of the node velocities (here: RK4 with 16 substeps), so
+// halving dt divides the error by ~8; and it is second-order consistent with the RK4 step.
+TEST(Capsule, MidpointStepHasThirdOrderLocalError) {
+  const geometry::Mesh mesh(6, 8);
+  DynamicsOptions opt;
+  opt.smooth_geometry = false;  // the plain Runge-Kutta maps
+  opt.volume_correction = false;
+  const Capsule cap(mesh, membrane::LawOptions{}, Flow::planar_extension(), opt);
+  const Eigen::Matrix3Xd x = deformed(mesh, false);
+  const double ca = 0.3;
+  auto reference = [&](double dt) {
+    Eigen::Matrix3Xd y = x;
+    for (int k = 0; k < 16; ++k) y = cap.rk4_step(y, 0.0, dt / 16, [ca](double) { return ca; });
+    return y;
+  };
+  double err[3];
+  const double dts[3] = {0.02, 0.01, 0.005};
+  for (int i = 0; i < 3; ++i)
+    err[i] = (cap.midpoint_step(x, dts[i], ca) - reference(dts[i])).cwiseAbs().maxCoeff();
+  std::printf("midpoint local error: %.3e %.3e %.3e (ratios %.2f %.2f)\n", err[0], err[1], err[2],
+              err[0] / err[1], err[1] / err[2]);
+  EXPECT_GT(err[2], 1e-13);  // above rounding: the rates below measure the method
+  EXPECT_NEAR(err[0] / err[1], 8.0, 1.2);
+  EXPECT_NEAR(err[1] / err[2], 8.0, 1.2);
 }
