@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "app/commands.h"
+#include "app/heap_policy.h"
 
 namespace capflow::app {
 namespace {
@@ -19,13 +20,15 @@ bool register_command(int order, CommandSetup setup) {
   registry().emplace_back(order, std::move(setup));
   return true;
 }
-void set_exit_code(int code) { g_exit_code = code; }
+void set_exit_code(int code) {
+  g_exit_code = code;
+}
 }  // namespace capflow::app
 
 int main(int argc, char** argv) {
   using namespace capflow::app;
-  CLI::App app{
-      "capflow - elastic capsules in Stokes flow by the spectral boundary element method"};
+  keep_freed_heap();
+  CLI::App app{"capflow - elastic capsules in Stokes flow by the spectral boundary element method"};
   app.require_subcommand(1);
   auto& reg = registry();
   std::stable_sort(reg.begin(), reg.end(),
