@@ -86,29 +86,7 @@ void RenderThread::run(std::promise<void> ready) {
   std::unique_ptr<Renderer> renderer;
   std::unique_ptr<output::Mp4Writer> mp4;
   try {
-    renderer = std::make_unique<Renderer>(opt_);
-    {
-      std::lock_guard<std::mutex> l(mu_);
-      info_ = renderer->context_info();
-    }
-    if (log_) {
-      std::string aa = std::string("; anti-aliasing ") + antialias_name(renderer->antialias());
-      if (renderer->antialias() == Antialias::Multisample)
-        aa += " (" + std::to_string(renderer->msaa()) + "x)";
-      log_(renderer->context_info().summary() + aa);
-      for (const std::string& w : renderer->warnings()) log_("warning: " + w);
-    }
-    if (opt_.png) ::mkdir(opt_.png_dir.c_str(), 0777);
-    if (opt_.mp4) {
-      output::Mp4Options mo;
-      mo.width = opt_.width;
-      mo.height = opt_.height;
-      mo.fps = opt_.fps;
-      mo.crf = opt_.crf;
-      mo.preset = opt_.preset;
-      mo.flush_every = opt_.flush_every;
-      mp4 = std::make_unique<output::Mp4Writer>(opt_.mp4_path, mo);
-    }
+    set_up(&renderer, &mp4);
   } catch (const std::exception& e) {
     fail(std::string("cannot start the renderer: ") + e.what());  // closes the queue: frames
                                                                   // submitted meanwhile fail
@@ -117,11 +95,42 @@ void RenderThread::run(std::promise<void> ready) {
   }
   frame_done();  // the set-up
   ready.set_value();
+  serve(*renderer, mp4.get());
+}
+
+void RenderThread::set_up(std::unique_ptr<Renderer>* renderer,
+                          std::unique_ptr<output::Mp4Writer>* mp4) {
+  *renderer = std::make_unique<Renderer>(opt_);
+  const Renderer& r = **renderer;
+  {
+    std::lock_guard<std::mutex> l(mu_);
+    info_ = r.context_info();
+  }
+  if (log_) {
+    std::string aa = std::string("; anti-aliasing ") + antialias_name(r.antialias());
+    if (r.antialias() == Antialias::Multisample) aa += " (" + std::to_string(r.msaa()) + "x)";
+    log_(r.context_info().summary() + aa);
+    for (const std::string& w : r.warnings()) log_("warning: " + w);
+  }
+  if (opt_.png) ::mkdir(opt_.png_dir.c_str(), 0777);
+  if (opt_.mp4) {
+    output::Mp4Options mo;
+    mo.width = opt_.width;
+    mo.height = opt_.height;
+    mo.fps = opt_.fps;
+    mo.crf = opt_.crf;
+    mo.preset = opt_.preset;
+    mo.flush_every = opt_.flush_every;
+    *mp4 = std::make_unique<output::Mp4Writer>(opt_.mp4_path, mo);
+  }
+}
+
+void RenderThread::serve(Renderer& renderer, output::Mp4Writer* mp4) {
   Image img;
   try {
     while (auto item = queue_->pop()) {
       FrameTimings t;
-      renderer->render(item->snapshot, &img, &t);
+      renderer.render(item->snapshot, &img, &t);
       if (item->lane == SnapshotQueue::Lane::Preview) {
         if (opt_.preview)
           output::write_png_atomic(opt_.preview_path, img.width, img.height, img.rgba.data());

@@ -36,6 +36,10 @@
 #include "render/renderer.h"
 #include "render/snapshot_queue.h"
 
+namespace capflow::output {
+class Mp4Writer;
+}
+
 namespace capflow::render {
 
 struct RenderStats {
@@ -78,7 +82,11 @@ class RenderThread {
   ContextInfo context_info() const;
 
  private:
-  void run(std::promise<void> ready);
+  void run(std::promise<void> ready);  // the thread: set_up, then serve
+  // The GL context (its summary logged), the PNG directory and the MP4 writer; throws.
+  void set_up(std::unique_ptr<Renderer>* renderer, std::unique_ptr<output::Mp4Writer>* mp4);
+  // Renders and writes every queued snapshot until the queue closes, then finishes the MP4.
+  void serve(Renderer& renderer, output::Mp4Writer* mp4);
   void fail(const std::string& msg);
   void frame_done();  // one frame (or the set-up) fewer in flight
   RenderOptions opt_;

@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 #include <atomic>
+#include <functional>
 #include <mutex>
 #include <vector>
 
@@ -56,6 +57,18 @@ Snapshot frame_snapshot(int k) {
   return s;
 }
 
+// The busy signals a RenderThread sends (its on_busy callback), recorded in order.
+struct BusyLog {
+  std::mutex mu;
+  std::vector<bool> events;
+  std::function<void(bool)> callback() {
+    return [this](bool busy) {
+      std::lock_guard<std::mutex> l(mu);
+      events.push_back(busy);
+    };
+  }
+};
+
 TEST(Pipeline, EveryMovieFrameIsRenderedAndEncoded) {
   const std::string dir = temp_dir("pipeline");
   RenderThread rt;
@@ -91,17 +104,14 @@ TEST(Pipeline, EveryMovieFrameIsRenderedAndEncoded) {
   EXPECT_TRUE(std::ifstream(dir + "/preview.png").good());
 }
 
-// The busy signal of the CPU budget (app/cpu_budget.h): true when a frame goes to an idle
-// renderer, false when the last frame is written; busy() agrees, and it ends false.
+// The busy signal of the CPU budget (app/cpu_budget.h): true while the renderer sets up and when
+// a frame goes to an idle renderer, false when the last frame is written; busy() agrees, and it
+// ends false.
 TEST(Pipeline, BusySignalBracketsTheFramesInFlight) {
   const std::string dir = temp_dir("busy");
   RenderThread rt;
-  std::mutex mu;
-  std::vector<bool> events;
-  rt.start(pipeline_options(dir), nullptr, [&](bool busy) {
-    std::lock_guard<std::mutex> l(mu);
-    events.push_back(busy);
-  });
+  BusyLog log;
+  rt.start(pipeline_options(dir), nullptr, log.callback());
   EXPECT_FALSE(rt.busy());
   for (int k = 0; k < 6; ++k) {
     ASSERT_TRUE(rt.submit_frame(frame_snapshot(k)));
@@ -110,7 +120,8 @@ TEST(Pipeline, BusySignalBracketsTheFramesInFlight) {
   const RenderStats st = rt.stop();
   EXPECT_EQ(st.movie_frames, 6);
   EXPECT_FALSE(rt.busy());
-  std::lock_guard<std::mutex> l(mu);
+  std::lock_guard<std::mutex> l(log.mu);
+  const std::vector<bool>& events = log.events;
   ASSERT_GE(events.size(), 2u);
   EXPECT_TRUE(events.front());
   EXPECT_FALSE(events.back());
@@ -122,16 +133,12 @@ TEST(Pipeline, BusySignalBracketsTheFramesInFlight) {
 TEST(Pipeline, LaunchedRendererTakesFramesWhileItSetsUp) {
   const std::string dir = temp_dir("launch");
   RenderThread rt;
-  std::mutex mu;
-  std::vector<bool> events;
-  rt.launch(pipeline_options(dir), nullptr, [&](bool busy) {
-    std::lock_guard<std::mutex> l(mu);
-    events.push_back(busy);
-  });
+  BusyLog log;
+  rt.launch(pipeline_options(dir), nullptr, log.callback());
   {
-    std::lock_guard<std::mutex> l(mu);
-    ASSERT_EQ(events.size(), 1u);  // signalled before launch() returns
-    EXPECT_TRUE(events.front());
+    std::lock_guard<std::mutex> l(log.mu);
+    ASSERT_EQ(log.events.size(), 1u);  // signalled before launch() returns
+    EXPECT_TRUE(log.events.front());
   }
   for (int k = 0; k < 4; ++k) ASSERT_TRUE(rt.submit_frame(frame_snapshot(k)));
   rt.wait_ready();
@@ -139,8 +146,8 @@ TEST(Pipeline, LaunchedRendererTakesFramesWhileItSetsUp) {
   EXPECT_EQ(st.movie_frames, 4);
   EXPECT_TRUE(rt.error().empty()) << rt.error();
   EXPECT_FALSE(rt.busy());
-  std::lock_guard<std::mutex> l(mu);
-  EXPECT_FALSE(events.back());
+  std::lock_guard<std::mutex> l(log.mu);
+  EXPECT_FALSE(log.events.back());
   const auto r = capflow::testing::ffprobe(dir + "/movie.mp4");
   ASSERT_TRUE(r.ok) << r.raw;
   EXPECT_EQ(r.packets, 4);
