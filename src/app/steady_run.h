@@ -9,7 +9,8 @@
 //   1. approach: adaptive time steps (app::TimeStepper on "auto", time.tolerance) until the
 //      largest node speed is below kApproachSpeed; the accepted steps there measure the
 //      stability limit;
-//   2. solve: capsule::solve_steady (Newton-Krylov on the RK4 step map, h = 0.7x those steps);
+//   2. solve: capsule::solve_steady (Newton-Krylov on the midpoint step map, h = 0.5x those
+//      steps);
 //      when Newton does not converge, the approach goes on to a 4x smaller speed and the solve
 //      is tried again (at most three times) before the level is reported as failed.
 // Outputs, in a run directory like `capflow run`'s (app/run_directory.h: lock, --overwrite):
