@@ -52,13 +52,14 @@ void RenderThread::launch(const RenderOptions& options, LogFn log,
   on_busy_ = std::move(on_busy);
   error_.clear();
   stats_ = RenderStats{};
+  busy_reported_ = false;
   queue_ = std::make_unique<SnapshotQueue>(static_cast<size_t>(opt_.queue_capacity));
   std::promise<void> ready;
   ready_ = ready.get_future().share();
   // Making the context (loading the driver), the shaders and the writers is the renderer's
   // work like a frame: it counts as one in flight, so the solver leaves it a core meanwhile.
   frames_in_flight_.store(1, std::memory_order_relaxed);
-  if (on_busy_) on_busy_(true);
+  report_busy();
   thread_ = std::thread([this, p = std::move(ready)]() mutable { run(std::move(p)); });
 }
 
@@ -78,7 +79,16 @@ void RenderThread::frame_done() {
   int n = frames_in_flight_.load(std::memory_order_relaxed);
   while (n > 0 && !frames_in_flight_.compare_exchange_weak(n, n - 1, std::memory_order_relaxed)) {
   }
-  if (n == 1 && on_busy_) on_busy_(false);
+  if (n == 1) report_busy();
+}
+
+void RenderThread::report_busy() {
+  if (!on_busy_) return;
+  std::lock_guard<std::mutex> l(busy_mu_);
+  const bool busy = frames_in_flight_.load(std::memory_order_relaxed) > 0;
+  if (busy == busy_reported_) return;
+  busy_reported_ = busy;
+  on_busy_(busy);
 }
 
 void RenderThread::run(std::promise<void> ready) {
@@ -181,14 +191,14 @@ void RenderThread::fail(const std::string& msg) {
   }
   if (log_) log_("render: error: " + msg);
   queue_->close();  // producers stop blocking and see false
-  if (frames_in_flight_.exchange(0) > 0 && on_busy_) on_busy_(false);
+  if (frames_in_flight_.exchange(0) > 0) report_busy();
 }
 
 bool RenderThread::submit_frame(Snapshot s) {
   if (s.frame < 0)
     throw std::invalid_argument("RenderThread::submit_frame: a movie frame needs its index");
   if (!queue_) return false;
-  if (frames_in_flight_.fetch_add(1, std::memory_order_relaxed) == 0 && on_busy_) on_busy_(true);
+  if (frames_in_flight_.fetch_add(1, std::memory_order_relaxed) == 0) report_busy();
   if (queue_->push_frame(std::move(s))) return true;
   frame_done();
   return false;

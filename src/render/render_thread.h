@@ -62,7 +62,8 @@ class RenderThread {
 
   // on_busy (optional) is called with true when a movie frame is submitted to an idle renderer
   // and with false when the last submitted frame has been written (from the submitting thread
-  // and from the renderer thread respectively; it must be cheap and thread-safe).
+  // and from the renderer thread respectively, one call at a time, the last call always the
+  // present state; it must be cheap).
   // The set-up counts as a frame in flight: on_busy(true) when it begins, (false) when it and
   // every frame submitted meanwhile are done.
   void start(const RenderOptions& options, LogFn log = nullptr,
@@ -89,6 +90,9 @@ class RenderThread {
   void serve(Renderer& renderer, output::Mp4Writer* mp4);
   void fail(const std::string& msg);
   void frame_done();  // one frame (or the set-up) fewer in flight
+  // Calls on_busy_ if the state (frames in flight or not) changed since its last call: under
+  // busy_mu_, so that a submit and a frame_done racing cannot leave the older state reported.
+  void report_busy();
   RenderOptions opt_;
   LogFn log_;
   std::function<void(bool)> on_busy_;
@@ -100,6 +104,8 @@ class RenderThread {
   ContextInfo info_;
   RenderStats stats_;
   std::atomic<int> frames_in_flight_{0};
+  std::mutex busy_mu_;  // serialises on_busy_ calls
+  bool busy_reported_ = false;
 };
 
 void install_stop_signal_handlers();  // SIGINT, SIGTERM -> stop_requested() = true

@@ -61,8 +61,10 @@ Snapshot frame_snapshot(int k) {
 struct BusyLog {
   std::mutex mu;
   std::vector<bool> events;
-  std::function<void(bool)> callback() {
-    return [this](bool busy) {
+  // idle_delay: how long a "false" call takes before it is recorded (a slow callback)
+  std::function<void(bool)> callback(std::chrono::microseconds idle_delay = {}) {
+    return [this, idle_delay](bool busy) {
+      if (!busy) std::this_thread::sleep_for(idle_delay);
       std::lock_guard<std::mutex> l(mu);
       events.push_back(busy);
     };
@@ -126,6 +128,34 @@ TEST(Pipeline, BusySignalBracketsTheFramesInFlight) {
   EXPECT_TRUE(events.front());
   EXPECT_FALSE(events.back());
   for (size_t k = 1; k < events.size(); ++k) EXPECT_NE(events[k], events[k - 1]) << k;
+}
+
+// A frame submitted the moment the renderer went idle races with the report of that idleness
+// (the renderer thread's "false" against this thread's "true"; the callback's "false" is made
+// slow to widen the race): the signal still alternates and ends in the present state, for
+// frames resubmitted as soon as busy() turns false.
+TEST(Pipeline, BusySignalKeepsItsOrderWhenASubmitRacesTheLastFrame) {
+  const std::string dir = temp_dir("busy_race");
+  RenderOptions o = pipeline_options(dir);
+  o.width = 64;
+  o.height = 48;
+  o.png = false;
+  o.preview = false;
+  RenderThread rt;
+  BusyLog log;
+  rt.start(o, nullptr, log.callback(std::chrono::microseconds(300)));
+  const int frames = 60;
+  for (int k = 0; k < frames; ++k) {
+    while (rt.busy()) {
+    }
+    ASSERT_TRUE(rt.submit_frame(frame_snapshot(k)));
+  }
+  EXPECT_EQ(rt.stop().movie_frames, frames);
+  std::lock_guard<std::mutex> l(log.mu);
+  const std::vector<bool>& events = log.events;
+  ASSERT_GE(events.size(), 2u);
+  EXPECT_FALSE(events.back());
+  for (size_t k = 1; k < events.size(); ++k) ASSERT_NE(events[k], events[k - 1]) << k;
 }
 
 // launch(): the set-up (context, shaders, writers) runs in the renderer thread while the caller
