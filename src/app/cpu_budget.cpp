@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cstdlib>
 
+#include "stokes/thread_buffers.h"
 #include "stokes/thread_cap.h"
 
 namespace capflow::app {
@@ -20,6 +21,12 @@ void set_solver_threads(int threads) {
   static const int initial = std::max(1, omp_get_max_threads());
   if (threads > 0) omp_set_num_threads(threads);
   g_solver_threads.store(threads > 0 ? threads : initial, std::memory_order_relaxed);
+}
+
+void start_solver_threads() {
+  int n = g_solver_threads.load(std::memory_order_relaxed);
+  if (n <= 0) n = std::max(1, omp_get_max_threads());
+  stokes::prepare_thread_buffers(n);
 }
 
 void renderer_busy(bool busy) {

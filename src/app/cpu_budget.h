@@ -23,6 +23,11 @@ namespace capflow::app {
 // (0: OpenMP's default, OMP_NUM_THREADS or all cores); remembered for the cap.
 void set_solver_threads(int threads);
 
+// Starts the solver's OpenMP threads and makes their operator buffers now, before the renderer
+// loads its GL driver: a thread's first operator call would otherwise register its buffers'
+// destructors under the loader lock that the driver's dlopen holds (stokes/thread_buffers.h).
+void start_solver_threads();
+
 // RenderThread's busy callback: caps the solver's operators at one thread fewer while true.
 // Thread-safe.
 void renderer_busy(bool busy);

@@ -24,6 +24,7 @@ std::unique_ptr<render::RenderThread> start_renderer(const control::ControlOptio
   std::string err;
   if (!ro.IsValid(&err)) throw UserError("render options: " + err);
   const bool one_rasteriser = render_cpu_defaults();
+  start_solver_threads();  // before the driver's dlopen (cpu_budget.h)
   auto renderer = std::make_unique<render::RenderThread>();
   // The renderer sets itself up (loading the GL driver is the larger part of a short run's
   // frame cost) while the solver builds and starts stepping; a set-up error reaches the run at

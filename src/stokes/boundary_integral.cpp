@@ -10,6 +10,7 @@
 #include "geometry/surface.h"
 #include "spectral/spectral.h"
 #include "stokes/line_sums.h"
+#include "stokes/thread_buffers.h"
 #include "stokes/thread_cap.h"
 
 namespace capflow::stokes {
@@ -139,17 +140,14 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
   const Matrix3Xd* sdens = jf ? &g : dens;
   std::vector<Vector3d> centre(ne);
   std::vector<double> radius(ne), esize(ne);
-  // The buffers of a call stay with the calling thread (thread_local, reused by the next call
-  // of this mode): allocated per call, the far data (0.3 + 0.5 MB at NB=10) and the line
-  // buffers below made glibc grow and trim its heap on every call, ~200 page faults a call
-  // (docs/performance.md, "Heap churn").
-  thread_local FarData far_tls[3];
+  // The buffers of a call stay with the calling thread, reused by its next call of this mode
+  // (stokes/thread_buffers.h).
+  ThreadBuffers& own_buffers = thread_buffers<M>();
   // single layer: the elements' data in Chebyshev coefficients along the rule lines
   const bool cheb = M == Mode::Single && !jf;
-  thread_local std::vector<ChebElement> cheb_tls;
-  if (cheb && static_cast<int>(cheb_tls.size()) < ne) cheb_tls.resize(ne);
-  std::vector<ChebElement>& ce = cheb_tls;
-  FarData* const far = far_tls;  // the calling thread's buffers, shared with the team below
+  std::vector<ChebElement>& ce = own_buffers.cheb;
+  if (cheb && static_cast<int>(ce.size()) < ne) ce.resize(ne);
+  FarData* const far = own_buffers.far;  // the calling thread's, shared with the team below
   const int ntiers = single ? 3 : 2;
   for (int tier = 0; tier < ntiers; ++tier) {
     far[tier].nq = static_cast<int>(far_basis_[tier].w.size());
@@ -203,7 +201,7 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
 #pragma omp parallel num_threads(team) reduction(+ : far_pairs, own_pairs, near_pairs, \
                                                    near_elements, searches, line_flops)
   {
-    thread_local Scratch sc;  // per OpenMP thread, kept across calls (see far above)
+    Scratch& sc = thread_buffers<M>().scratch;  // per OpenMP thread, kept across calls
     size_scratch(sc, nb, max_lines);
     sc.near.Lc.resize(nb, max_near_lines);
     sc.near.dLc.resize(nb, max_near_lines);

@@ -5,6 +5,7 @@
 
 #include "spectral/target_clones.h"
 #include "stokes/kernel_point.h"
+#include "stokes/thread_buffers.h"
 
 namespace capflow::stokes {
 
@@ -23,12 +24,9 @@ void far_data(const geometry::Mesh& mesh, const Matrix3Xd& x, const Matrix3Xd* d
               const VectorXd& gw, const MatrixXd& I, const MatrixXd& Id, int e, FarData& F,
               double* esize) {
   const int nb = mesh.nb(), nb2 = nb * nb, nq = static_cast<int>(gw.size()), nqe = nq * nq;
-  // per-thread workspace kept across calls: allocated per call, these temporaries made the
-  // thread's malloc arena grow and trim on every call (~50 page faults a call at NE=6 NB=10)
-  struct Workspace {
-    MatrixXd X, XI, IX, xq[3], xsq[3], xtq[3], dq[3];
-  };
-  thread_local Workspace ws;
+  // the thread's workspace, kept across calls (stokes/thread_buffers.h): allocated per call,
+  // these temporaries made the malloc arena grow and trim (~50 page faults a call at NE=6 NB=10)
+  FarWorkspace& ws = thread_buffers<M>().far_ws;
   MatrixXd &X = ws.X, &XI = ws.XI, &IX = ws.IX;
   MatrixXd *xq = ws.xq, *xsq = ws.xsq, *xtq = ws.xtq, *dq = ws.dq;
   X.resize(nb, nb);

@@ -1,0 +1,30 @@
+#include "stokes/thread_buffers.h"
+
+#include <omp.h>
+
+#include <algorithm>
+
+namespace capflow::stokes {
+
+template <Mode M>
+ThreadBuffers& thread_buffers() {
+  thread_local ThreadBuffers b;
+  return b;
+}
+
+template ThreadBuffers& thread_buffers<Mode::Single>();
+template ThreadBuffers& thread_buffers<Mode::SingleNormal>();
+template ThreadBuffers& thread_buffers<Mode::Double>();
+template ThreadBuffers& thread_buffers<Mode::DoubleNormal>();
+
+void prepare_thread_buffers(int team) {
+#pragma omp parallel num_threads(std::max(1, team))
+  {
+    thread_buffers<Mode::Single>();
+    thread_buffers<Mode::SingleNormal>();
+    thread_buffers<Mode::Double>();
+    thread_buffers<Mode::DoubleNormal>();
+  }
+}
+
+}  // namespace capflow::stokes

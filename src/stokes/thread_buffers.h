@@ -1,0 +1,41 @@
+// capflow/stokes/thread_buffers: each thread's working memory of the boundary operators, kept
+// across calls (thread_local, one set per kernel mode). Allocated per call, the far data (0.3 +
+// 0.5 MB at NB=10) and the line buffers made glibc grow and trim its heap on every call, ~200
+// page faults a call (docs/performance.md, "Heap churn").
+#pragma once
+
+#include <Eigen/Dense>
+#include <vector>
+
+#include "stokes/far_field.h"
+#include "stokes/kernel_mode.h"
+#include "stokes/line_sums.h"
+
+namespace capflow::stokes {
+
+// far_data's temporaries: one element's coordinates (and density) at the Gauss points and their
+// derivatives.
+struct FarWorkspace {
+  Eigen::MatrixXd X, XI, IX, xq[3], xsq[3], xtq[3], dq[3];
+};
+
+struct ThreadBuffers {
+  FarData far[3];                 // a call's far data by tier: the calling thread's, shared with
+                                  // its team
+  std::vector<ChebElement> cheb;  // single layer: the elements in Chebyshev coefficients
+  Scratch scratch;                // a team thread's element data and line buffers
+  FarWorkspace far_ws;            // a team thread's far_data temporaries
+};
+
+// The calling thread's buffers of mode M.
+template <Mode M>
+ThreadBuffers& thread_buffers();
+
+// Makes the buffers of the calling thread and of the other threads of its OpenMP team of `team`
+// threads now. A thread-local object's first use registers its destructor under glibc's loader
+// lock (__cxa_thread_atexit_impl takes dl_load_lock), which a dlopen in another thread holds
+// for the whole relocation of the library: the renderer's loading of llvmpipe (libLLVM) stalled
+// the solver's first operator call by 60-70 ms. Call before such a dlopen can start.
+void prepare_thread_buffers(int team);
+
+}  // namespace capflow::stokes
