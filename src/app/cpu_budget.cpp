@@ -1,10 +1,16 @@
 #include "app/cpu_budget.h"
 
 #include <omp.h>
+#include <sys/resource.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
+#include <cerrno>
 #include <cstdlib>
+#include <mutex>
+#include <thread>
+#include <vector>
 
 #include "stokes/thread_buffers.h"
 #include "stokes/thread_cap.h"
@@ -13,7 +19,39 @@ namespace capflow::app {
 
 namespace {
 std::atomic<int> g_solver_threads{0};  // 0: not set yet
+
+// The solver team's threads (by OpenMP thread number, recorded by start_solver_threads) and
+// their nice values then; whether their nice values may be lowered back after a frame.
+std::mutex g_team_mu;
+std::vector<pid_t> g_team_tids;
+std::vector<int> g_team_nice;
+bool g_may_renice = false;
+constexpr int kIdleNice = 19;  // an idle solver thread's nice value while a frame is pending
+
+// Whether this process may lower a thread's nice value back after raising it (CAP_SYS_NICE or a
+// large enough RLIMIT_NICE): tried on a throwaway thread, so that no solver thread is left
+// lowered.
+bool may_restore_nice() {
+  bool ok = false;
+  std::thread([&ok] {
+    const id_t tid = static_cast<id_t>(gettid());
+    errno = 0;
+    const int nice = getpriority(PRIO_PROCESS, tid);
+    if (errno != 0 || nice >= kIdleNice) return;
+    ok =
+        setpriority(PRIO_PROCESS, tid, kIdleNice) == 0 && setpriority(PRIO_PROCESS, tid, nice) == 0;
+  }).join();
+  return ok;
 }
+
+// Threads [cap, team) sit idle in OpenMP's dock while the cap holds (libgomp gives a team of
+// `cap` the pool's first threads); lowered to kIdleNice, their spinning there no longer takes
+// the renderer's core half of the time.
+void renice_idle_threads(int cap, bool idle) {
+  for (size_t k = std::max(cap, 1); k < g_team_tids.size(); ++k)
+    setpriority(PRIO_PROCESS, static_cast<id_t>(g_team_tids[k]), idle ? kIdleNice : g_team_nice[k]);
+}
+}  // namespace
 
 void set_solver_threads(int threads) {
   // 0: the OpenMP default as the process started (OMP_NUM_THREADS, else all cores), taken before
@@ -23,16 +61,38 @@ void set_solver_threads(int threads) {
   g_solver_threads.store(threads > 0 ? threads : initial, std::memory_order_relaxed);
 }
 
-void start_solver_threads() {
+bool start_solver_threads() {
   int n = g_solver_threads.load(std::memory_order_relaxed);
   if (n <= 0) n = std::max(1, omp_get_max_threads());
   stokes::prepare_thread_buffers(n);
+  std::vector<pid_t> tids(n, 0);
+  std::vector<int> nice(n, 0);
+#pragma omp parallel num_threads(n)
+  {
+    const int k = omp_get_thread_num();
+    tids[k] = gettid();
+    nice[k] = getpriority(PRIO_PROCESS, static_cast<id_t>(tids[k]));
+  }
+  const bool may = may_restore_nice();
+  std::lock_guard<std::mutex> l(g_team_mu);
+  g_team_tids = std::move(tids);
+  g_team_nice = std::move(nice);
+  g_may_renice = may;
+  return may;
 }
 
 void renderer_busy(bool busy) {
   int n = g_solver_threads.load(std::memory_order_relaxed);
   if (n <= 0) n = std::max(1, omp_get_max_threads());
-  stokes::set_thread_cap(busy ? std::max(1, n - 1) : 0);
+  const int cap = std::max(1, n - 1);
+  std::lock_guard<std::mutex> l(g_team_mu);
+  if (busy) {
+    stokes::set_thread_cap(cap);
+    if (g_may_renice) renice_idle_threads(cap, true);
+  } else {
+    if (g_may_renice) renice_idle_threads(cap, false);
+    stokes::set_thread_cap(0);
+  }
 }
 
 bool render_cpu_defaults() {

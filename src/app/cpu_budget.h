@@ -9,6 +9,11 @@
 //    renderer gets a core of its own;
 //  * otherwise the cap is off and the solver uses every thread it was given (numerics.threads;
 //    0: OpenMP's default), so the renderer never holds a core when no frame is pending;
+//  * the solver threads the cap leaves idle wait in OpenMP's dock, spinning for a few
+//    milliseconds (GOMP_SPINCOUNT) before they sleep; while a frame is pending they run at nice
+//    19, so that their spinning takes little of the renderer's core, and at their own nice
+//    value again once it is written. Lowering the nice value back needs root, CAP_SYS_NICE or
+//    RLIMIT_NICE: without them the threads are left as they are;
 //  * the renderer works on one core: llvmpipe gets one rasteriser thread (LP_NUM_THREADS=1,
 //    unless the user set it; other drivers ignore it), which runs while the render thread waits
 //    for it.
@@ -26,7 +31,9 @@ void set_solver_threads(int threads);
 // Starts the solver's OpenMP threads and makes their operator buffers now, before the renderer
 // loads its GL driver: a thread's first operator call would otherwise register its buffers'
 // destructors under the loader lock that the driver's dlopen holds (stokes/thread_buffers.h).
-void start_solver_threads();
+// Records the team's threads for renderer_busy; true when their nice values can be raised
+// while a frame is pending and lowered back after it (root, CAP_SYS_NICE or RLIMIT_NICE).
+bool start_solver_threads();
 
 // RenderThread's busy callback: caps the solver's operators at one thread fewer while true.
 // Thread-safe.

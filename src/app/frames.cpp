@@ -24,7 +24,7 @@ std::unique_ptr<render::RenderThread> start_renderer(const control::ControlOptio
   std::string err;
   if (!ro.IsValid(&err)) throw UserError("render options: " + err);
   const bool one_rasteriser = render_cpu_defaults();
-  start_solver_threads();  // before the driver's dlopen (cpu_budget.h)
+  const bool renice = start_solver_threads();  // before the driver's dlopen (cpu_budget.h)
   auto renderer = std::make_unique<render::RenderThread>();
   // The renderer sets itself up (loading the GL driver is the larger part of a short run's
   // frame cost) while the solver builds and starts stepping; a set-up error reaches the run at
@@ -38,9 +38,9 @@ std::unique_ptr<render::RenderThread> start_renderer(const control::ControlOptio
         }
       },
       renderer_busy);
-  if (one_rasteriser)
-    say("render: LP_NUM_THREADS=1 (llvmpipe rasterises in one thread); the solver leaves the "
-        "renderer a core while a frame is pending");
+  if (one_rasteriser) say("render: LP_NUM_THREADS=1 (llvmpipe rasterises in one thread)");
+  say(std::string("render: while a frame is pending the solver leaves the renderer a core") +
+      (renice ? " and its idle threads wait at nice 19" : ""));
   return renderer;
 }
 

@@ -1,11 +1,16 @@
 // The CPU budget of a movie run (app/cpu_budget.h): while the renderer is busy the solver's
-// operators run with one thread fewer (at least one), otherwise uncapped; LP_NUM_THREADS is set
-// only when the user has not set it.
+// operators run with one thread fewer (at least one), otherwise uncapped, and the threads the cap
+// leaves idle wait at nice 19 where the process may lower their nice value back; LP_NUM_THREADS
+// is set only when the user has not set it.
 #include <gtest/gtest.h>
 #include <omp.h>
 
+#include <sys/resource.h>
+#include <unistd.h>
+
 #include <cstdlib>
 #include <string>
+#include <vector>
 
 #include "app/cpu_budget.h"
 #include "stokes/thread_cap.h"
@@ -25,6 +30,30 @@ TEST(CpuBudget, BusyRendererTakesOneSolverThread) {
   EXPECT_EQ(stokes::thread_cap(), 1);  // never below one
   renderer_busy(false);
   EXPECT_EQ(stokes::thread_cap(), 0);
+  set_solver_threads(threads);
+}
+
+// The nice value of each thread of the solver's team of `n` (the pool's threads in order).
+std::vector<int> team_nice(int n) {
+  std::vector<int> nice(n);
+#pragma omp parallel num_threads(n)
+  nice[omp_get_thread_num()] = getpriority(PRIO_PROCESS, static_cast<id_t>(gettid()));
+  return nice;
+}
+
+TEST(CpuBudget, IdleSolverThreadsWaitAtLowPriorityWhileAFrameIsPending) {
+  const int threads = omp_get_max_threads();
+  set_solver_threads(3);
+  const bool may = start_solver_threads();
+  const std::vector<int> before = team_nice(3);
+  renderer_busy(true);  // cap 2: thread 2 idle
+  const std::vector<int> busy = team_nice(3);
+  renderer_busy(false);
+  const std::vector<int> after = team_nice(3);
+  EXPECT_EQ(busy[0], before[0]);
+  EXPECT_EQ(busy[1], before[1]);
+  EXPECT_EQ(busy[2], may ? 19 : before[2]);
+  EXPECT_EQ(after, before);
   set_solver_threads(threads);
 }
 
