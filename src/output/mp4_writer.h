@@ -20,11 +20,11 @@
 namespace capflow::output {
 
 struct Mp4Options {
-  int width = 0, height = 0;   // pixels, both even
-  int fps = 30;                // frames per second
-  int crf = 20;                // x264 constant rate factor 0..51 (lower = better)
-  std::string preset = "veryfast";
-  int flush_every = 1;         // frames per fragment
+  int width = 0, height = 0;         // pixels, both even
+  int fps = 30;                      // frames per second
+  int crf = 20;                      // x264 constant rate factor 0..51 (lower = better)
+  std::string preset = "ultrafast";  // x264 preset (docs/performance.md, "x264")
+  int flush_every = 1;               // frames per fragment
   // libx264's threads (0: its default, ~1.5 per core). 1 keeps the encoder on the calling thread:
   // the renderer's one-core budget (app/cpu_budget.h).
   int threads = 1;

@@ -30,24 +30,24 @@ struct CameraOptions {
   bool orthographic = false;
   // Custom view (used when view == Custom): eye and target in world units, up direction.
   std::array<double, 3> eye{0, -6, 0}, target{0, 0, 0}, up{0, 0, 1};
-  double fov_deg = 30;  // vertical field of view (perspective); ortho extent for Custom views
+  double fov_deg = 30;   // vertical field of view (perspective); ortho extent for Custom views
   double margin = 1.12;  // named views: frame the bounding box with this much room
 };
 
 struct RenderOptions {
-  int width = 1280;    // image width in pixels (even; MP4 needs even sizes)
-  int height = 720;    // image height in pixels (even)
-  int msaa = 4;        // multisample count when multisampling (0 or 1 = off)
+  int width = 1280;  // image width in pixels (even; MP4 needs even sizes)
+  int height = 720;  // image height in pixels (even)
+  int msaa = 4;      // multisample count when multisampling (0 or 1 = off)
   Antialias antialias = Antialias::Auto;
   int subdivisions = 25;  // upsampling grid per element (25 x 25, as in the paper's views)
   CameraOptions camera;
   ColorField field = ColorField::MaxTension;
   ColorMap colormap = ColorMap::Viridis;
-  bool auto_range = true;       // range from the data: [min, max]; symmetric for CoolWarm
+  bool auto_range = true;               // range from the data: [min, max]; symmetric for CoolWarm
   double range_min = 0, range_max = 1;  // used when auto_range is false
   std::array<float, 3> plain_color{0.85f, 0.62f, 0.45f};  // sRGB, for ColorField::Plain
-  std::array<float, 3> background{1.0f, 1.0f, 1.0f};    // sRGB
-  bool element_lines = true;    // draw element edges as thin lines
+  std::array<float, 3> background{1.0f, 1.0f, 1.0f};      // sRGB
+  bool element_lines = true;                              // draw element edges as thin lines
   bool cull_back_faces = true;  // skip the back faces when the eye is outside the bounding box
                                 // (the same image for a closed surface, a cheaper draw)
   std::array<float, 3> line_color{0.12f, 0.12f, 0.12f};
@@ -56,30 +56,30 @@ struct RenderOptions {
   Backend backend = Backend::Auto;
 
   // Outputs of the renderer thread (RenderThread); `capflow render` writes one PNG itself.
-  bool png = true;               // write every movie frame as <png_dir>/frame_NNNNNN.png
+  bool png = true;  // write every movie frame as <png_dir>/frame_NNNNNN.png
   std::string png_dir = "frames";
-  bool mp4 = false;              // write <mp4_path>, H.264 yuv420p fragmented MP4
+  bool mp4 = false;  // write <mp4_path>, H.264 yuv420p fragmented MP4
   std::string mp4_path = "movie.mp4";
-  int fps = 30;                  // movie frames per second
-  int crf = 20;                  // x264 constant rate factor: 0 lossless .. 51 worst (quality)
-  std::string preset = "veryfast";  // x264 preset (speed/size trade-off)
-  int flush_every = 1;           // write an MP4 fragment every N frames (kill -9 safety)
-  bool preview = false;          // write the latest preview snapshot to preview_path
+  int fps = 30;                      // movie frames per second
+  int crf = 20;                      // x264 constant rate factor: 0 lossless .. 51 worst (quality)
+  std::string preset = "ultrafast";  // x264 preset (speed/size trade-off; docs/performance.md)
+  int flush_every = 1;               // write an MP4 fragment every N frames (kill -9 safety)
+  bool preview = false;              // write the latest preview snapshot to preview_path
   std::string preview_path = "preview.png";
-  int queue_capacity = 4;        // movie frames that may wait for the renderer
+  int queue_capacity = 4;  // movie frames that may wait for the renderer
 
   // Checks ranges and combinations; on failure *error names the offending field.
   bool IsValid(std::string* error) const;
 };
 
 const char* view_name(View v);
-const char* field_name(ColorField f);     // "max-tension", ...
-const char* field_label(ColorField f);    // legend title, e.g. "max principal tension tau1"
+const char* field_name(ColorField f);   // "max-tension", ...
+const char* field_label(ColorField f);  // legend title, e.g. "max principal tension tau1"
 const char* colormap_name(ColorMap m);
-const char* antialias_name(Antialias a);  // "auto", "msaa", "lines", "off"
-bool parse_view(const std::string& s, View* out);         // oblique|xy|xz|yz
-bool parse_field(const std::string& s, ColorField* out);  // max|min|mean|plain (or long names)
-bool parse_colormap(const std::string& s, ColorMap* out); // viridis|coolwarm
+const char* antialias_name(Antialias a);                     // "auto", "msaa", "lines", "off"
+bool parse_view(const std::string& s, View* out);            // oblique|xy|xz|yz
+bool parse_field(const std::string& s, ColorField* out);     // max|min|mean|plain (or long names)
+bool parse_colormap(const std::string& s, ColorMap* out);    // viridis|coolwarm
 bool parse_antialias(const std::string& s, Antialias* out);  // auto|msaa|lines|off
 
 }  // namespace capflow::render
