@@ -1,5 +1,5 @@
 // Renderer stage costs per frame: wall and CPU milliseconds for upsample, draw (+ MSAA
-// resolve), overlay, readback, PNG (stb_image_write) and MP4 encode (swscale + libx264), on a
+// resolve), overlay, readback, PNG (libspng) and MP4 encode (libyuv + libx264), on a
 // lamellar shape. CPU is the process's CPU time over the stage (every thread: the render thread,
 // llvmpipe's rasteriser threads, x264's threads); nothing else runs in this process, so it is
 // the stage's own cost. Prints a Markdown table of medians over `frames` frames after one
