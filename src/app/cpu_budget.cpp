@@ -46,10 +46,20 @@ bool may_restore_nice() {
 
 // Threads [cap, team) sit idle in OpenMP's dock while the cap holds (libgomp gives a team of
 // `cap` the pool's first threads); lowered to kIdleNice, their spinning there no longer takes
-// the renderer's core half of the time.
-void renice_idle_threads(int cap, bool idle) {
-  for (size_t k = std::max(cap, 1); k < g_team_tids.size(); ++k)
+// the renderer's core half of the time. Restores the others' own nice values.
+void renice_idle_threads(int cap) {
+  for (size_t k = 1; k < g_team_tids.size(); ++k) {
+    const bool idle = cap > 0 && static_cast<int>(k) >= cap;
     setpriority(PRIO_PROCESS, static_cast<id_t>(g_team_tids[k]), idle ? kIdleNice : g_team_nice[k]);
+  }
+}
+
+// stokes' cap observer: called by the solver between its parallel regions when an operator call
+// first runs under a new cap, when the threads the cap leaves out are idle (lowering them as the
+// cap is set would starve one still working in the region in flight, and the region with it).
+void on_cap_change(int cap) {
+  std::lock_guard<std::mutex> l(g_team_mu);
+  if (g_may_renice && cap > 0) renice_idle_threads(cap);
 }
 }  // namespace
 
@@ -78,21 +88,22 @@ bool start_solver_threads() {
   g_team_tids = std::move(tids);
   g_team_nice = std::move(nice);
   g_may_renice = may;
+  stokes::set_cap_observer(on_cap_change);
   return may;
 }
 
 void renderer_busy(bool busy) {
   int n = g_solver_threads.load(std::memory_order_relaxed);
   if (n <= 0) n = std::max(1, omp_get_max_threads());
-  const int cap = std::max(1, n - 1);
-  std::lock_guard<std::mutex> l(g_team_mu);
   if (busy) {
-    stokes::set_thread_cap(cap);
-    if (g_may_renice) renice_idle_threads(cap, true);
-  } else {
-    if (g_may_renice) renice_idle_threads(cap, false);
-    stokes::set_thread_cap(0);
+    stokes::set_thread_cap(std::max(1, n - 1));  // the idle threads lowered by on_cap_change
+    return;
   }
+  {
+    std::lock_guard<std::mutex> l(g_team_mu);
+    if (g_may_renice) renice_idle_threads(0);  // back first: the next call uses every thread
+  }
+  stokes::set_thread_cap(0);
 }
 
 bool render_cpu_defaults() {

@@ -11,8 +11,9 @@
 //    0: OpenMP's default), so the renderer never holds a core when no frame is pending;
 //  * the solver threads the cap leaves idle wait in OpenMP's dock, spinning for a few
 //    milliseconds (GOMP_SPINCOUNT) before they sleep; while a frame is pending they run at nice
-//    19, so that their spinning takes little of the renderer's core, and at their own nice
-//    value again once it is written. Lowering the nice value back needs root, CAP_SYS_NICE or
+//    19 (set by the solver's first operator call under the cap, when they are idle), so that
+//    their spinning takes little of the renderer's core, and at their own nice value again once
+//    it is written. Lowering the nice value back needs root, CAP_SYS_NICE or
 //    RLIMIT_NICE: without them the threads are left as they are;
 //  * the renderer works on one core: llvmpipe gets one rasteriser thread (LP_NUM_THREADS=1,
 //    unless the user set it; other drivers ignore it), which runs while the render thread waits

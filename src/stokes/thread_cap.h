@@ -9,7 +9,15 @@ namespace capflow::stokes {
 
 void set_thread_cap(int threads);  // threads <= 0: no cap
 int thread_cap();
-// The team size of an operator's parallel region: omp_get_max_threads(), at most the cap.
+// The team size of an operator's parallel region: omp_get_max_threads(), at most the cap. Called
+// by the operator's calling thread before its regions; outside any parallel region it first
+// calls the cap observer if the cap changed since the previous such call.
 int team_size();
+
+// Called (on the operator's calling thread, between its parallel regions, so the team's other
+// threads are idle in OpenMP's dock) with the cap an operator call sees when it differs from the
+// one the previous call saw: the place to change how the threads the cap leaves idle wait
+// (app/cpu_budget.h). nullptr: none. Set it before the operator calls begin.
+void set_cap_observer(void (*observer)(int cap));
 
 }  // namespace capflow::stokes

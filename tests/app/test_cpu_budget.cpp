@@ -46,7 +46,10 @@ TEST(CpuBudget, IdleSolverThreadsWaitAtLowPriorityWhileAFrameIsPending) {
   set_solver_threads(3);
   const bool may = start_solver_threads();
   const std::vector<int> before = team_nice(3);
-  renderer_busy(true);  // cap 2: thread 2 idle
+  renderer_busy(true);  // cap 2: thread 2 idle from the next operator call on
+  // unchanged until an operator call runs under the cap (the thread may still be working)
+  EXPECT_EQ(team_nice(3), before);
+  EXPECT_EQ(stokes::team_size(), 2);  // what an operator call does first
   const std::vector<int> busy = team_nice(3);
   renderer_busy(false);
   const std::vector<int> after = team_nice(3);
