@@ -1,0 +1,61 @@
+#include "capsule/viscosity_ratio.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace capflow::capsule {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+}
+
+ViscosityRatioSolver::ViscosityRatioSolver(const stokes::BoundaryOperators& ops,
+                                           const SymmetryMap& sym, double lambda,
+                                           GmresOptions options)
+    : ops_(ops), sym_(sym), lambda_(lambda), options_(options) {
+  if (!(lambda > 0 && lambda <= 100))
+    throw std::invalid_argument("viscosity ratio " + std::to_string(lambda) +
+                                " is outside (0, 100]");
+}
+
+ViscosityRatioSolver::~ViscosityRatioSolver() = default;
+
+double ViscosityRatioSolver::kappa() const {
+  return (1.0 - lambda_) / (8.0 * kPi);
+}
+
+Eigen::Matrix3Xd ViscosityRatioSolver::solve(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& u1,
+                                             GmresResult* result) {
+  const std::vector<int>& targets = sym_.targets();
+  const int nt = static_cast<int>(targets.size());
+  if (u1.cols() != nt)
+    throw std::invalid_argument("ViscosityRatioSolver: u1 is not at the targets");
+  if (result) *result = GmresResult{0, 0, true};
+  if (lambda_ == 1.0) return u1;
+  const int n = 3 * nt;
+  if (!gmres_ || gmres_->size() != n) {
+    gmres_ = std::make_unique<Gmres>(n, options_);
+    last_.resize(0);
+  }
+  const double k = kappa();
+  Eigen::Matrix3Xd all, dl(3, nt);
+  const Gmres::Operator A = [&](const Eigen::VectorXd& v, Eigen::VectorXd& out) {
+    sym_.expand(Eigen::Map<const Eigen::Matrix3Xd>(v.data(), 3, nt), &all);
+    ops_.double_layer(x, all, targets, dl);
+    out = v - k * Eigen::Map<const Eigen::VectorXd>(dl.data(), n);
+  };
+  const Eigen::VectorXd b = Eigen::Map<const Eigen::VectorXd>(u1.data(), n);
+  Eigen::VectorXd y = last_.size() == n ? last_ : b;
+  const GmresResult r = gmres_->solve(A, b, &y);
+  if (result) *result = r;
+  if (!r.converged)
+    throw std::runtime_error("viscosity ratio " + std::to_string(lambda_) +
+                             ": GMRES stopped at relative residual " + std::to_string(r.residual) +
+                             " after " + std::to_string(r.iterations) + " iterations (tolerance " +
+                             std::to_string(options_.tolerance) + ")");
+  last_ = y;
+  return Eigen::Map<const Eigen::Matrix3Xd>(y.data(), 3, nt);
+}
+
+}  // namespace capflow::capsule

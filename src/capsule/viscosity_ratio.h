@@ -1,0 +1,49 @@
+// capflow/capsule/viscosity_ratio: the node velocities of a capsule whose inner fluid is lambda
+// times as viscous as the outer one. Paper eq. 5 (method.md section 2),
+//   (1 + lambda) u - 2 u_inf = -(1/(4 pi Ca)) INT S.f dS + ((1 - lambda)/(4 pi)) PV INT u.T.n dS,
+// with PV INT u.T.n dS = DL[u] - 4 pi u(x0) (stokes/boundary_integral.h) becomes the
+// second-kind equation
+//   u - kappa DL[u] = u1,   kappa = (1 - lambda) / (8 pi),
+// u1 the velocity at lambda = 1 (u_inf - SL[f] / (8 pi Ca)). Solved at the symmetry targets by
+// GMRES (capsule/gmres.h), the double layer taken over the whole surface (the targets' values
+// mirrored to every node), warm-started from the previous solution.
+// Spectrum: rigid-body motions have DL = 0 (eigenvalue 1 for every lambda); on the unit sphere
+// the radial field x has DL[x] = 8 pi x, so u1 = x gives u = x / lambda: the system is singular
+// as lambda -> 0 (the inner fluid cannot resist a change of volume).
+#pragma once
+
+#include <Eigen/Dense>
+#include <memory>
+
+#include "capsule/gmres.h"
+#include "capsule/symmetry.h"
+#include "stokes/boundary_integral.h"
+
+namespace capflow::capsule {
+
+class ViscosityRatioSolver {
+ public:
+  // lambda in (0, 100]; ops and sym must outlive the solver.
+  ViscosityRatioSolver(const stokes::BoundaryOperators& ops, const SymmetryMap& sym, double lambda,
+                       GmresOptions options = {});
+  ~ViscosityRatioSolver();
+
+  // u at sym.targets() (3 x targets) on the surface x (3 x num_local) for the lambda = 1
+  // velocity u1 at the targets. The first solve starts from u1, the next ones from the
+  // previous solution. Throws std::runtime_error if GMRES does not reach the tolerance.
+  Eigen::Matrix3Xd solve(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& u1,
+                         GmresResult* result = nullptr);
+
+  double lambda() const { return lambda_; }
+  double kappa() const;  // (1 - lambda) / (8 pi)
+
+ private:
+  const stokes::BoundaryOperators& ops_;
+  const SymmetryMap& sym_;
+  double lambda_;
+  GmresOptions options_;
+  std::unique_ptr<Gmres> gmres_;
+  Eigen::VectorXd last_;  // the previous solution (the warm start)
+};
+
+}  // namespace capflow::capsule
