@@ -61,10 +61,12 @@ stokes::QuadratureOptions quadrature_rules(const geometry::Mesh& mesh, const Dyn
 Capsule::Capsule(const geometry::Mesh& mesh, const membrane::LawOptions& law, const Flow& flow,
                  const DynamicsOptions& options)
     : mesh_(mesh), flow_(flow), opt_(options) {
-  if (opt_.viscosity_ratio != 1.0)
-    throw std::invalid_argument(
-        "viscosity_ratio = " + std::to_string(opt_.viscosity_ratio) +
-        " is not implemented yet: only 1 (equal viscosities, no double-layer solve) is supported");
+  if (!(opt_.viscosity_ratio > 0 && opt_.viscosity_ratio <= 100))
+    throw std::invalid_argument("viscosity_ratio = " + std::to_string(opt_.viscosity_ratio) +
+                                " is out of range: it must be in (0, 100]");
+  if (!(opt_.krylov_tolerance > 0 && opt_.krylov_tolerance < 1))
+    throw std::invalid_argument("krylov_tolerance = " + std::to_string(opt_.krylov_tolerance) +
+                                " is out of range: it must be in (0, 1)");
   ref_basis_ = tangent_basis(mesh, mesh.reference());
   {
     // The membrane's reference tangents are those the dynamics sees for the reference shape,
@@ -76,6 +78,14 @@ Capsule::Capsule(const geometry::Mesh& mesh, const membrane::LawOptions& law, co
   ops_ = std::make_unique<stokes::BoundaryOperators>(mesh, quadrature_rules(mesh, opt_));
   symmetry_ = std::make_unique<SymmetryMap>(mesh, symmetry_for(flow_, opt_.symmetry));
   no_symmetry_ = std::make_unique<SymmetryMap>(mesh, SymmetryKind::None);
+  if (opt_.viscosity_ratio != 1.0) {
+    GmresOptions g;
+    g.tolerance = opt_.krylov_tolerance;
+    lambda_solver_ =
+        std::make_unique<ViscosityRatioSolver>(*ops_, *symmetry_, opt_.viscosity_ratio, g);
+    lambda_solver_full_ =
+        std::make_unique<ViscosityRatioSolver>(*ops_, *no_symmetry_, opt_.viscosity_ratio, g);
+  }
   x_ = mesh.reference();
   // The nodal sphere is C1 across element edges only to discretisation accuracy; start from its
   // smoothed version so that V0 (and the volume drift) refers to the state actually advanced.
@@ -137,6 +147,11 @@ Eigen::Matrix3Xd Capsule::velocity_impl(const Eigen::Matrix3Xd& x, double ca,
   Eigen::Matrix3Xd ut(3, targets.size());
   for (size_t k = 0; k < targets.size(); ++k)
     ut.col(k) = flow_.gradient * x.col(targets[k]) - c * sl.col(k);
+  if (opt_.viscosity_ratio != 1.0) {  // ut is the lambda = 1 velocity u1
+    GmresResult r;
+    ut = (use_symmetry ? *lambda_solver_ : *lambda_solver_full_).solve(x, ut, &r);
+    krylov_iterations_ += r.iterations;
+  }
   Eigen::Matrix3Xd u;
   sym.expand(ut, &u);
   return u;

@@ -23,6 +23,7 @@
 #include "capsule/flow.h"
 #include "capsule/smoothing.h"
 #include "capsule/symmetry.h"
+#include "capsule/viscosity_ratio.h"
 #include "geometry/mesh.h"
 #include "membrane/law.h"
 #include "membrane/membrane.h"
@@ -46,9 +47,13 @@ enum class SymmetryChoice { Auto, None };
 enum class SmoothingMethod { HermiteDerivatives, NodalReconstruction };
 
 struct DynamicsOptions {
-  double viscosity_ratio = 1.0;  // lambda; only 1 is implemented (constructor refuses others)
-  bool smooth_geometry = true;   // paper's first-order smoothing of x after each step
-  bool smooth_traction = true;   // ... and of f before each use
+  // lambda, inner / outer viscosity, in (0, 100]: other than 1, every velocity evaluation
+  // solves the second-kind equation of capsule/viscosity_ratio.h by GMRES to krylov_tolerance
+  // (relative residual)
+  double viscosity_ratio = 1.0;
+  double krylov_tolerance = 1e-10;
+  bool smooth_geometry = true;  // paper's first-order smoothing of x after each step
+  bool smooth_traction = true;  // ... and of f before each use
   SmoothingMethod smoothing = SmoothingMethod::HermiteDerivatives;
   bool volume_correction = false;                  // paper eq. 23
   SymmetryChoice symmetry = SymmetryChoice::Auto;  // Auto: octant (planar ext.), quarter (shear)
@@ -67,7 +72,7 @@ class Capsule {
  public:
   // The mesh must outlive the Capsule. Starts from the reference sphere at t = 0 (smoothed once
   // when smooth_geometry is on; initial_volume() is the volume of that state).
-  // Throws std::invalid_argument for invalid law options or viscosity_ratio != 1.
+  // Throws std::invalid_argument for invalid law options or viscosity_ratio outside (0, 100].
   Capsule(const geometry::Mesh& mesh, const membrane::LawOptions& law, const Flow& flow,
           const DynamicsOptions& options = {});
 
@@ -99,6 +104,9 @@ class Capsule {
   Eigen::Matrix3Xd velocity(const Eigen::Matrix3Xd& x, double ca) const;
   // How many times velocity() (or velocity_full) has been evaluated by this object.
   long velocity_evaluations() const { return evaluations_; }
+  // GMRES iterations (double-layer applications) of the viscosity-ratio solves so far (0 when
+  // viscosity_ratio is 1).
+  long krylov_iterations() const { return krylov_iterations_; }
   // Same, evaluated at every node without symmetry (reference for tests).
   Eigen::Matrix3Xd velocity_full(const Eigen::Matrix3Xd& x, double ca) const;
 
@@ -129,12 +137,16 @@ class Capsule {
   std::unique_ptr<stokes::BoundaryOperators> ops_;
   std::unique_ptr<SymmetryMap> symmetry_;
   std::unique_ptr<SymmetryMap> no_symmetry_;
+  // viscosity_ratio != 1: the second-kind solves on the symmetry targets and on every node (their
+  // warm starts change with each evaluation, hence mutable)
+  mutable std::unique_ptr<ViscosityRatioSolver> lambda_solver_, lambda_solver_full_;
   SmoothingBasis ref_basis_;
   Eigen::Matrix3Xd x_;
   double t_ = 0;
   long steps_ = 0;
   double v0_ = 0;
   mutable long evaluations_ = 0;
+  mutable long krylov_iterations_ = 0;
 };
 
 // Volume enclosed by the surface x (Gauss quadrature, nq = NB + 4).
