@@ -87,6 +87,15 @@ RunCheckpoint decode(const output::Checkpoint& c) {
   if (c.has("h_next")) s.h_next = c.scalar("h_next");
   if (!(std::isfinite(s.h_next) && s.h_next >= 0 && s.h_next <= 1))
     throw output::CheckpointError(p + ": invalid h_next (the adaptive step) in the checkpoint");
+  if (c.has("krylov_warm")) {
+    const auto& w = c.doubles("krylov_warm");
+    s.krylov_warm =
+        Eigen::Map<const Eigen::VectorXd>(w.data(), static_cast<Eigen::Index>(w.size()));
+    if (!s.krylov_warm.allFinite() || s.krylov_warm.size() % 3 != 0 ||
+        s.options.viscosity_ratio == 1.0)
+      throw output::CheckpointError(p +
+                                    ": invalid krylov_warm (the viscosity-ratio solve's start)");
+  }
   if (c.has("note"))
     s.note = c.text("note");
   else if (c.has("extrapolated"))
@@ -126,6 +135,9 @@ void write_run_checkpoint(const RunCheckpoint& s, const std::string& path) {
   c.put_scalar("pending_steady_ca", s.pending_steady_ca);
   c.put_scalar("pending_ca", s.pending_ca);
   c.put_scalar("h_next", s.h_next);
+  if (s.krylov_warm.size() > 0)
+    c.put("krylov_warm",
+          std::vector<double>(s.krylov_warm.data(), s.krylov_warm.data() + s.krylov_warm.size()));
   if (!s.note.empty()) c.put("note", s.note);
   try {
     c.write(path);

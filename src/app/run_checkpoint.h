@@ -11,7 +11,8 @@
 // outputs of this step an output failure left unwritten; absent = 0) with pending_ca (the Ca
 // they carry), pending_steady_ca (the Ca of an unwritten steady.csv row; NaN = none),
 // h_next (the adaptive integrator's next step, time.dt "auto"; absent or 0 = estimate anew),
-// and note (free text: where a state that no run wrote came from, e.g. an extrapolation; absent = "").
+// and note (free text: where a state that no run wrote came from, e.g. an extrapolation; absent =
+// "").
 #pragma once
 
 #include <Eigen/Dense>
@@ -45,6 +46,7 @@ struct RunCheckpoint {
   bool pending_row = false, pending_frame = false, pending_vtk = false;
   double pending_ca = 0;
   double h_next = 0;
+  Eigen::VectorXd krylov_warm;  // the viscosity-ratio solve's warm start (empty for lambda = 1)
   std::string note;
   double pending_steady_ca = std::numeric_limits<double>::quiet_NaN();
 };

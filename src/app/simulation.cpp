@@ -314,6 +314,7 @@ struct Simulation::Impl {
     s.pending_steady_ca = pending_steady_ca;
     s.pending_ca = pending_ca;
     s.h_next = stepper->adaptive() ? stepper->next_step() : 0.0;
+    s.krylov_warm = cap->krylov_warm_start();
     return s;
   }
 
@@ -711,6 +712,11 @@ std::unique_ptr<Simulation> Simulation::resume(const std::string& run_dir,
   s.log = std::make_unique<RunLog>(*s.dir, isatty(STDERR_FILENO));
   s.build_solver();
   s.cap->set_state(c.x, c.t, c.steps);
+  try {
+    s.cap->set_krylov_warm_start(c.krylov_warm);
+  } catch (const std::invalid_argument& e) {
+    throw UserError(c.path + ": " + e.what());
+  }
   s.start_monitors(c.ca, c.h_next);
   try {
     s.schedule->restore(c.schedule);
@@ -877,6 +883,7 @@ RunSummary Simulation::run(const std::atomic<bool>* stop) {
   sum.t = s.t();
   sum.steps = s.cap->step_count();
   sum.evaluations = s.cap->velocity_evaluations();
+  sum.krylov_iterations = s.cap->krylov_iterations();
   sum.wall_s = s.wall();
   sum.D = m.shape.D;
   sum.L = m.shape.L;
@@ -885,10 +892,15 @@ RunSummary Simulation::run(const std::atomic<bool>* stop) {
   sum.volume_drift = m.shape.volume / s.cap->initial_volume() - 1.0;
   std::ostringstream fin;
   fin << "end (" << reason << "): t=" << sum.t << " steps=" << sum.steps << " (rejected "
-      << s.rejected << ") velocity evaluations=" << sum.evaluations << " wall=" << std::fixed
-      << std::setprecision(1) << sum.wall_s << " s, D=" << std::setprecision(5) << sum.D
-      << " L=" << sum.L << " S=" << sum.S << " W=" << sum.W << ", volume drift " << std::scientific
-      << std::setprecision(2) << sum.volume_drift << ", steady states " << s.steady_rows;
+      << s.rejected << ") velocity evaluations=" << sum.evaluations;
+  if (s.opt.viscosity_ratio != 1.0)
+    fin << " (GMRES iterations " << sum.krylov_iterations << ", " << std::setprecision(3)
+        << static_cast<double>(sum.krylov_iterations) / std::max<long>(1, sum.evaluations)
+        << " per evaluation)";
+  fin << " wall=" << std::fixed << std::setprecision(1) << sum.wall_s
+      << " s, D=" << std::setprecision(5) << sum.D << " L=" << sum.L << " S=" << sum.S
+      << " W=" << sum.W << ", volume drift " << std::scientific << std::setprecision(2)
+      << sum.volume_drift << ", steady states " << s.steady_rows;
   s.best_effort([&] { s.say(fin.str()); });
   s.best_effort([&] {
     s.event(Record()

@@ -50,6 +50,7 @@ struct RunSummary {
   double t = 0;
   long steps = 0;
   long evaluations = 0;        // velocity evaluations in this session
+  long krylov_iterations = 0;  // GMRES iterations of the viscosity-ratio solves (lambda != 1)
   double wall_s = 0;
   double D = 0, L = 0, S = 0, W = 0;
   double volume_drift = 0;

@@ -157,6 +157,17 @@ Eigen::Matrix3Xd Capsule::velocity_impl(const Eigen::Matrix3Xd& x, double ca,
   return u;
 }
 
+Eigen::VectorXd Capsule::krylov_warm_start() const {
+  return lambda_solver_ ? lambda_solver_->warm_start() : Eigen::VectorXd();
+}
+
+void Capsule::set_krylov_warm_start(const Eigen::VectorXd& v) {
+  if (lambda_solver_)
+    lambda_solver_->set_warm_start(v);
+  else if (v.size() != 0)
+    throw std::invalid_argument("Capsule: a warm start for viscosity_ratio 1 (no solve)");
+}
+
 Eigen::Matrix3Xd Capsule::velocity(const Eigen::Matrix3Xd& x, double ca) const {
   return velocity_impl(x, ca, true);
 }

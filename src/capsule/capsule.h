@@ -107,6 +107,11 @@ class Capsule {
   // GMRES iterations (double-layer applications) of the viscosity-ratio solves so far (0 when
   // viscosity_ratio is 1).
   long krylov_iterations() const { return krylov_iterations_; }
+  // The viscosity-ratio solve's warm start at the symmetry targets (empty when viscosity_ratio
+  // is 1 or before the first evaluation): stored in checkpoints, so that a resumed run goes on
+  // bit for bit. set_krylov_warm_start throws std::invalid_argument for a wrong size.
+  Eigen::VectorXd krylov_warm_start() const;
+  void set_krylov_warm_start(const Eigen::VectorXd& v);
   // Same, evaluated at every node without symmetry (reference for tests).
   Eigen::Matrix3Xd velocity_full(const Eigen::Matrix3Xd& x, double ca) const;
 

@@ -21,6 +21,15 @@ ViscosityRatioSolver::ViscosityRatioSolver(const stokes::BoundaryOperators& ops,
 
 ViscosityRatioSolver::~ViscosityRatioSolver() = default;
 
+void ViscosityRatioSolver::set_warm_start(const Eigen::VectorXd& v) {
+  if (v.size() != 0 && v.size() != 3 * static_cast<Eigen::Index>(sym_.targets().size()))
+    throw std::invalid_argument("ViscosityRatioSolver: a warm start of " +
+                                std::to_string(v.size()) + " values for " +
+                                std::to_string(sym_.targets().size()) + " targets");
+  if (!v.allFinite()) throw std::invalid_argument("ViscosityRatioSolver: a warm start not finite");
+  last_ = v;
+}
+
 double ViscosityRatioSolver::kappa() const {
   return (1.0 - lambda_) / (8.0 * kPi);
 }
@@ -34,10 +43,7 @@ Eigen::Matrix3Xd ViscosityRatioSolver::solve(const Eigen::Matrix3Xd& x, const Ei
   if (result) *result = GmresResult{0, 0, true};
   if (lambda_ == 1.0) return u1;
   const int n = 3 * nt;
-  if (!gmres_ || gmres_->size() != n) {
-    gmres_ = std::make_unique<Gmres>(n, options_);
-    last_.resize(0);
-  }
+  if (!gmres_ || gmres_->size() != n) gmres_ = std::make_unique<Gmres>(n, options_);
   const double k = kappa();
   Eigen::Matrix3Xd all, dl(3, nt);
   const Gmres::Operator A = [&](const Eigen::VectorXd& v, Eigen::VectorXd& out) {

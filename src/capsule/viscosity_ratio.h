@@ -34,6 +34,11 @@ class ViscosityRatioSolver {
   Eigen::Matrix3Xd solve(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& u1,
                          GmresResult* result = nullptr);
 
+  // The warm start of the next solve (empty: start from u1), e.g. kept in a checkpoint so that a
+  // resumed run continues bit for bit; set_warm_start checks its size (0 or 3 x targets).
+  const Eigen::VectorXd& warm_start() const { return last_; }
+  void set_warm_start(const Eigen::VectorXd& v);
+
   double lambda() const { return lambda_; }
   double kappa() const;  // (1 - lambda) / (8 pi)
 

@@ -77,11 +77,6 @@ void check_combinations(const json& doc, ControlOptions& o, std::vector<ControlI
     errors->push_back({"ca",
                        "missing: give a capillary number (e.g. \"ca\": 0.45) or a schedule "
                        "(a list of segments)"});
-  if (o.viscosity_ratio != 1.0)
-    errors->push_back(
-        {"capsule.viscosity_ratio", "value " + show(*lookup(doc, "capsule.viscosity_ratio")) +
-                                        " is not supported yet: only 1 (equal "
-                                        "viscosities) is implemented"});
   if (!lookup(doc, "mesh.division"))
     o.mesh.division = default_division(o.mesh.elements, o.flow.type);
   if (o.mesh.division == geometry::Division::Diagonal && o.mesh.elements != 6)
@@ -164,6 +159,9 @@ ControlError::ControlError(const std::string& source, std::vector<ControlIssue> 
 capsule::DynamicsOptions dynamics_options(const ControlOptions& o) {
   capsule::DynamicsOptions d;
   d.viscosity_ratio = o.viscosity_ratio;
+  // The viscosity-ratio solve three decades below the tolerances its velocities feed: the
+  // adaptive steps' local error and capflow steady's residual (and never looser than 1e-8).
+  d.krylov_tolerance = std::min(1e-8, 1e-3 * std::min(o.time.tolerance, o.steady.solve_tolerance));
   d.smooth_geometry = d.smooth_traction = o.numerics.smoothing;
   d.volume_correction = o.numerics.volume_correction;
   d.symmetry = o.numerics.symmetry ? capsule::SymmetryChoice::Auto : capsule::SymmetryChoice::None;

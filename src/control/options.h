@@ -165,7 +165,7 @@ struct RunOptions {
 struct ControlOptions {
   std::string description;       // "description": free text, logged (optional)
   membrane::LawOptions law;      // "capsule.law", "capsule.C", "capsule.psi"
-  double viscosity_ratio = 1.0;  // "capsule.viscosity_ratio": only 1 is implemented
+  double viscosity_ratio = 1.0;  // "capsule.viscosity_ratio": lambda, (0, 100]
   MeshOptions mesh;
   StartOptions start;  // "start"
   capsule::Flow flow;  // "flow.type": "planar-extension" | "simple-shear" |

@@ -480,8 +480,9 @@ std::vector<Field> build_fields() {
       "the Mooney-Rivlin parameter psi", "", kFrozen, "Mooney-Rivlin parameter (1 = neo-Hookean)"));
   t.push_back(number(
       "capsule.viscosity_ratio", [](O& o) -> double& { return o.viscosity_ratio; },
-      open_closed(0, 1e4), "the viscosity ratio", "", kFrozen,
-      "lambda, inner / outer viscosity; only 1 is implemented (others are refused)"));
+      open_closed(0, 100), "the viscosity ratio", "", kFrozen,
+      "lambda, inner / outer viscosity; other than 1, each velocity evaluation solves the "
+      "double-layer equation by GMRES"));
   // mesh
   t.push_back(integer_of(
       "mesh.elements", [](O& o) -> int& { return o.mesh.elements; }, {6, 10, 14},

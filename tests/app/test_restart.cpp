@@ -14,7 +14,7 @@ using namespace capflow;
 namespace fs = std::filesystem;
 
 namespace {
-control::ControlOptions options(const fs::path& dir, double t_end) {
+control::ControlOptions options(const fs::path& dir, double t_end, double lambda = 1.0) {
   // the axis-aligned cube, so that start.from below goes from it onto the other divisions
   control::ParsedControl p = control::parse_control(R"({
     "capsule": {"law": "neo-hookean"}, "mesh": {"elements": 6, "nb": 6, "division": "cube"},
@@ -24,6 +24,7 @@ control::ControlOptions options(const fs::path& dir, double t_end) {
     "output": {"csv_every": 0.008}})");
   p.options.output.dir = dir.string();
   p.options.time.t_end = t_end;
+  p.options.viscosity_ratio = lambda;
   return p.options;
 }
 std::vector<double> final_x(const fs::path& dir) {
@@ -31,15 +32,16 @@ std::vector<double> final_x(const fs::path& dir) {
 }
 }  // namespace
 
-TEST(Restart, ResumedRunIsBitIdenticalToAnUninterruptedOne) {
+// lambda = 1, and lambda = 5 (the checkpoint keeps the warm start of the double-layer solve).
+void expect_resume_bit_identical(double lambda) {
   const fs::path a = test::fresh_dir("full"), b = test::fresh_dir("split");
   {
-    app::Simulation sim(options(a, 0.08), "");
+    app::Simulation sim(options(a, 0.08, lambda), "");
     const app::RunSummary s = sim.run();
     ASSERT_EQ(s.steps, 20);
   }
   {
-    app::Simulation sim(options(b, 0.04), "");
+    app::Simulation sim(options(b, 0.04, lambda), "");
     ASSERT_EQ(sim.run().steps, 10);
   }
   {
@@ -57,11 +59,20 @@ TEST(Restart, ResumedRunIsBitIdenticalToAnUninterruptedOne) {
     for (auto& l : v) l = l.substr(0, l.rfind(','));
     return v;
   };
-  EXPECT_EQ(strip(test::lines_of(a / "timeseries.csv")), strip(test::lines_of(b / "timeseries.csv")));
+  EXPECT_EQ(strip(test::lines_of(a / "timeseries.csv")),
+            strip(test::lines_of(b / "timeseries.csv")));
   // The ramp started at t = 0.02 and Ca was continuous across the restart.
   EXPECT_NE(test::read_file(b / "events.jsonl").find("\"event\":\"resume\""), std::string::npos);
   fs::remove_all(a);
   fs::remove_all(b);
+}
+
+TEST(Restart, ResumedRunIsBitIdenticalToAnUninterruptedOne) {
+  expect_resume_bit_identical(1.0);
+}
+
+TEST(Restart, ResumedRunWithAViscosityRatioIsBitIdentical) {
+  expect_resume_bit_identical(5.0);
 }
 
 TEST(Restart, RefusesMissingAndCorruptCheckpoints) {
@@ -70,7 +81,8 @@ TEST(Restart, RefusesMissingAndCorruptCheckpoints) {
     app::Simulation::resume(d.string(), {});
     FAIL();
   } catch (const app::UserError& e) {
-    EXPECT_NE(std::string(e.what()).find("not a capflow run directory"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("not a capflow run directory"), std::string::npos)
+        << e.what();
   }
   test::write_file(d / "control.json", "{}");
   test::write_file(d / "events.jsonl", "");
@@ -86,7 +98,8 @@ TEST(Restart, RefusesMissingAndCorruptCheckpoints) {
     app::Simulation::resume(d.string(), {});
     FAIL();
   } catch (const app::UserError& e) {
-    EXPECT_NE(std::string(e.what()).find("not a capflow checkpoint"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("not a capflow checkpoint"), std::string::npos)
+        << e.what();
   }
   fs::remove_all(d);
 }
@@ -124,7 +137,8 @@ TEST(Restart, CorruptNewestCheckpointFallsBackToTheNewestValidOne) {
     for (auto& l : v) l = l.substr(0, l.rfind(','));
     return v;
   };
-  EXPECT_EQ(strip(test::lines_of(a / "timeseries.csv")), strip(test::lines_of(b / "timeseries.csv")));
+  EXPECT_EQ(strip(test::lines_of(a / "timeseries.csv")),
+            strip(test::lines_of(b / "timeseries.csv")));
   const std::vector<double> xa = final_x(a), xb = final_x(b);
   ASSERT_EQ(xa.size(), xb.size());
   EXPECT_EQ(std::memcmp(xa.data(), xb.data(), xa.size() * sizeof(double)), 0);
@@ -224,9 +238,12 @@ TEST(StartFrom, RunGoesOnFromAnotherRunsShapeOnAnotherMesh) {
       app::Simulation sim(o, "");
       EXPECT_EQ(sim.run().steps, 5) << name;
     }
-    EXPECT_NEAR(csv_value(dir / "timeseries.csv", 0, "D"), csv_value(a / "timeseries.csv", last_a, "D"), 2e-4)
+    EXPECT_NEAR(csv_value(dir / "timeseries.csv", 0, "D"),
+                csv_value(a / "timeseries.csv", last_a, "D"), 2e-4)
         << name;
-    EXPECT_EQ(output::Checkpoint::read(app::Simulation::latest_checkpoint(dir.string())).integer("division"), code)
+    EXPECT_EQ(output::Checkpoint::read(app::Simulation::latest_checkpoint(dir.string()))
+                  .integer("division"),
+              code)
         << name;
     app::ResumeOverrides ov;
     ov.t_end = 0.07;
@@ -265,7 +282,8 @@ TEST(StartFrom, MissingSourcesAreRefusedNamingTheField) {
             std::string::npos);
   EXPECT_EQ(test::read_file(d / "timeseries.csv"), "keep");
   test::write_file(empty / "x.ckpt", "garbage");
-  EXPECT_NE(message((empty / "x.ckpt").string()).find("not a capflow checkpoint"), std::string::npos);
+  EXPECT_NE(message((empty / "x.ckpt").string()).find("not a capflow checkpoint"),
+            std::string::npos);
   fs::remove_all(d);
   fs::remove_all(empty);
 }
