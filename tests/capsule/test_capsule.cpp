@@ -132,6 +132,23 @@ TEST(Capsule, RestingSphereWithAViscosityRatioMovesAtFiveOverTwoLambdaPlusThree)
   }
 }
 
+TEST(Capsule, RestingSphereInShearWithAViscosityRatioTurnsRigidlyAndStrainsLess) {
+  // Simple shear u_inf = G x is a strain E = (G + G^T)/2 plus a rotation W = (G - G^T)/2: the
+  // rotation is a rigid-body motion, which the double layer leaves alone, so the unstressed
+  // sphere moves with u = 5 / (2 lambda + 3) E x + W x (shear symmetry targets: y >= 0, x >= 0).
+  const geometry::Mesh mesh(6, 10);
+  const Eigen::Matrix3d G = Flow::simple_shear().gradient;
+  const Eigen::Matrix3d E = 0.5 * (G + G.transpose()), W = 0.5 * (G - G.transpose());
+  for (double lambda : {0.2, 5.0}) {
+    DynamicsOptions opt;
+    opt.viscosity_ratio = lambda;
+    Capsule cap(mesh, membrane::LawOptions{}, Flow::simple_shear(), opt);
+    const Eigen::Matrix3Xd expect = (5.0 / (2.0 * lambda + 3.0) * E + W) * mesh.reference();
+    EXPECT_LT((cap.velocity(mesh.reference(), 0.3) - expect).cwiseAbs().maxCoeff(), 2e-6)
+        << "lambda " << lambda;
+  }
+}
+
 TEST(Capsule, QuadratureScaleRaisesEveryOrderAndKeepsTheVelocity) {
   // Doubling every quadrature order is an accuracy check: the orders double (rounded) and the
   // velocity at a smooth deformed state stays within the default rules' accuracy (~1e-8).
