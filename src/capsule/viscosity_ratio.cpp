@@ -14,9 +14,13 @@ ViscosityRatioSolver::ViscosityRatioSolver(const stokes::BoundaryOperators& ops,
                                            const SymmetryMap& sym, double lambda,
                                            GmresOptions options)
     : ops_(ops), sym_(sym), lambda_(lambda), options_(options) {
-  if (!(lambda > 0 && lambda <= 100))
-    throw std::invalid_argument("viscosity ratio " + std::to_string(lambda) +
-                                " is outside (0, 100]");
+  if (!(lambda > 0 && lambda <= kMaxViscosityRatio))
+    throw std::invalid_argument("viscosity_ratio = " + std::to_string(lambda) +
+                                " is out of range: it must be in (0, " +
+                                std::to_string(static_cast<int>(kMaxViscosityRatio)) + "]");
+  if (!(options.tolerance > 0 && options.tolerance < 1))
+    throw std::invalid_argument("krylov_tolerance = " + std::to_string(options.tolerance) +
+                                " is out of range: it must be in (0, 1)");
 }
 
 ViscosityRatioSolver::~ViscosityRatioSolver() = default;

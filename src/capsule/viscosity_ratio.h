@@ -21,9 +21,13 @@
 
 namespace capflow::capsule {
 
+// The viscosity ratios capflow solves for: (0, kMaxViscosityRatio].
+constexpr double kMaxViscosityRatio = 100;
+
 class ViscosityRatioSolver {
  public:
-  // lambda in (0, 100]; ops and sym must outlive the solver.
+  // lambda in (0, kMaxViscosityRatio], options.tolerance in (0, 1) (std::invalid_argument naming
+  // the range otherwise); ops and sym must outlive the solver.
   ViscosityRatioSolver(const stokes::BoundaryOperators& ops, const SymmetryMap& sym, double lambda,
                        GmresOptions options = {});
   ~ViscosityRatioSolver();

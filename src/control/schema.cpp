@@ -6,6 +6,7 @@
 #include <set>
 #include <sstream>
 
+#include "capsule/viscosity_ratio.h"
 #include "control/limits.h"
 #include "control/schema_table.h"
 
@@ -480,7 +481,7 @@ std::vector<Field> build_fields() {
       "the Mooney-Rivlin parameter psi", "", kFrozen, "Mooney-Rivlin parameter (1 = neo-Hookean)"));
   t.push_back(number(
       "capsule.viscosity_ratio", [](O& o) -> double& { return o.viscosity_ratio; },
-      open_closed(0, 100), "the viscosity ratio", "", kFrozen,
+      open_closed(0, capsule::kMaxViscosityRatio), "the viscosity ratio", "", kFrozen,
       "lambda, inner / outer viscosity; other than 1, each velocity evaluation solves the "
       "double-layer equation by GMRES"));
   // mesh
