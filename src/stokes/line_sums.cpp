@@ -8,8 +8,11 @@
 #include "spectral/spectral.h"
 #include "spectral/target_clones.h"
 #include "stokes/kernel_point.h"
+#include "stokes/lagrange_line.h"
 
 namespace capflow::stokes {
+
+using namespace detail;  // NOLINT: the shared stage-2 pieces (lagrange_line.h)
 
 using Eigen::Matrix3Xd;
 using Eigen::MatrixXd;
@@ -100,11 +103,6 @@ namespace {
 // = k U_{k-1} with U likewise. Compiled three times (x86-64-v4 with AVX-512, x86-64-v3 with
 // AVX2/FMA, and the default), chosen at load time.
 typedef double v4d __attribute__((vector_size(32)));
-// Stage 2 works on blocks of 8 points (one 512-bit vector on AVX-512, two 256-bit halves on
-// AVX2): the kernel's square root and division are latency-bound, and 8 independent lanes hide
-// more of it than 4 (NE=10 NB=12 single layer ~1.45x, docs/performance.md).
-constexpr int kW = 8;
-typedef double vl __attribute__((vector_size(8 * kW)));
 CAPFLOW_TARGET_CLONES("arch=x86-64-v4", "arch=x86-64-v3", "default")
 void single_line(int nb, int m, const double* A, const double* B, double base, double scale,
                  const double* off, double wscale, const double* wedge, const double* x0,
@@ -265,97 +263,6 @@ void stage1(int nb, int nl, int Kn, int n3, const double* Lc, const double* dLc,
 
 namespace {
 
-// One line of a special rule for the modes with Lagrange bases along the line: the stage-1 rows
-// A (x, and the density if there is one, at the along nodes: K nb) and B (d/d(across) x: 3 nb),
-// and the line's m points o_j = base + scale off[j] with weights w_j = wscale wedge[j].
-struct LagrangeLine {
-  const double* A;
-  const double* B;
-  double base, scale;
-  const double* off;
-  double wscale;
-  const double* wedge;
-  int m;
-};
-
-constexpr vl kZero = {0, 0, 0, 0, 0, 0, 0, 0}, kOne = {1, 1, 1, 1, 1, 1, 1, 1};
-
-// r2 <- 1 / sqrt(r2), lane by lane (in place: a vector return value would change the baseline
-// clone's ABI)
-[[gnu::always_inline]] inline void inv_sqrt(vl& r2) {
-  for (int q = 0; q < kW; ++q) r2[q] = 1.0 / std::sqrt(r2[q]);
-}
-
-// The derivative along a line at its along nodes, dA[c nb + i] = sum_k D(i, k) A[c nb + k] for the
-// position (c < 3): exact for the line's polynomial of degree nb - 1, so its interpolant is the
-// derivative of the position's (no derivative bases at the points).
-[[gnu::always_inline]] inline void along_derivative(int nb, const double* A, const double* D,
-                                                    double* dA) {
-  for (int i = 0; i < 3 * nb; ++i) dA[i] = 0.0;
-  for (int c = 0; c < 3; ++c)
-    for (int k = 0; k < nb; ++k) {
-      const double a = A[c * nb + k];
-      for (int i = 0; i < nb; ++i) dA[c * nb + i] += D[i + k * nb] * a;
-    }
-}
-
-// The interpolated values at the points p0 .. p0 + kW - 1 of a line (lanes past its end: weight 0,
-// pad 1): the position X, the density F (Density) and the derivatives across (Ac, from B) and
-// along (Al, from dA) (Tangents). The Lagrange bases at each point are made in registers by the
-// product formula of spectral::lagrange_bases (prefix products times the weight c_j, then suffix
-// products), so no rule stores point bases and no near rule evaluates them into memory.
-template <bool Density, bool Tangents>
-[[gnu::always_inline]] inline void lagrange_block(int nb, const LagrangeLine& ln, const double* dA,
-                                                  const NodalBasis& nbas, int p0, vl& wq, vl& pad,
-                                                  vl* X, vl* F, vl* Ac, vl* Al) {
-  vl ov;
-  for (int q = 0; q < kW; ++q) {
-    const bool in = p0 + q < ln.m;
-    ov[q] = in ? ln.base + ln.scale * ln.off[p0 + q] : 0.0;
-    wq[q] = in ? ln.wscale * ln.wedge[p0 + q] : 0.0;
-    pad[q] = in ? 0.0 : 1.0;
-  }
-  vl pre[kMaxNb];  // c_j prod_{k < j} (o - x_k)
-  vl P = kOne;
-  for (int j = 0; j < nb; ++j) {
-    pre[j] = nbas.weights[j] * P;
-    P = P * (ov - nbas.nodes[j]);
-  }
-  for (int c = 0; c < 3; ++c) {
-    X[c] = kZero;
-    if constexpr (Density) F[c] = kZero;
-    if constexpr (Tangents) Ac[c] = Al[c] = kZero;
-  }
-  P = kOne;  // prod_{k > j} (o - x_k)
-  const double* A = ln.A;
-  const double* B = ln.B;
-  for (int j = nb - 1; j >= 0; --j) {
-    const vl L = pre[j] * P;
-    P = P * (ov - nbas.nodes[j]);
-    for (int c = 0; c < 3; ++c) X[c] += A[c * nb + j] * L;
-    if constexpr (Density)
-      for (int c = 0; c < 3; ++c) F[c] += A[(3 + c) * nb + j] * L;
-    if constexpr (Tangents)
-      for (int c = 0; c < 3; ++c) {
-        Ac[c] += B[c * nb + j] * L;
-        Al[c] += dA[c * nb + j] * L;
-      }
-  }
-}
-
-// w J n at the block's points: sg (x_across x x_along) times the weight.
-[[gnu::always_inline]] inline void weighted_normal(const vl* Ac, const vl* Al, vl wq, double sg,
-                                                   vl* n) {
-  const vl ws = sg * wq;
-  n[0] = ws * (Ac[1] * Al[2] - Ac[2] * Al[1]);
-  n[1] = ws * (Ac[2] * Al[0] - Ac[0] * Al[2]);
-  n[2] = ws * (Ac[0] * Al[1] - Ac[1] * Al[0]);
-}
-
-[[gnu::always_inline]] inline double hsum(const vl& v) {
-  return ((v[0] + v[1]) + (v[2] + v[3])) + ((v[4] + v[5]) + (v[6] + v[7]));
-}
-
 // INT S.n dS over one line: out[0..2] += sum w (n / r + (r.n) r / r^3) (kernel_point.h).
 CAPFLOW_TARGET_CLONES("arch=x86-64-v4", "arch=x86-64-v3", "default")
 void normal_line(int nb, const LagrangeLine& ln, const NodalBasis& nbas, double sg,
@@ -450,6 +357,18 @@ void jf_line(int nb, const LagrangeLine& ln, const NodalBasis& nbas, const doubl
 
 }  // namespace
 
+void across_lines(int nb, int K, const LineRule& R, Scratch& sc) {
+  const int nl = R.nl(), n0 = R.n0, n1 = nl - n0;
+  const int Kn = K * nb, n3 = 3 * nb;
+  size_lines(sc, nb, nl);
+  if (n0 > 0)
+    stage1(nb, n0, Kn, n3, R.Lc.data(), R.dLc.data(), sc.D0.data(), sc.D0.cols(), sc.A.data(),
+           sc.A.cols(), sc.B.data(), sc.B.cols());
+  if (n1 > 0)
+    stage1(nb, n1, Kn, n3, R.Lc.col(n0).data(), R.dLc.col(n0).data(), sc.D1.data(), sc.D1.cols(),
+           sc.A.row(n0).data(), sc.A.cols(), sc.B.row(n0).data(), sc.B.cols());
+}
+
 // Sum the kernel over the points of one line rule; the element data are in sc.D0/D1 (in the
 // rule's orientation); sign: orientation of the rule's (s, t) relative to the element's.
 // Stage 1: for every line, the 1-D interpolation across the lines (dense products
@@ -460,15 +379,8 @@ void line_sum(int nb, int K_arg, const LineRule& R, const NodalBasis& basis, dou
   // the number of interpolated quantities is the mode's (a constant for the compiler)
   constexpr int K = uses_density(M) ? 6 : 3;
   if (K_arg != K) throw std::invalid_argument("line_sum: K does not match the mode");
-  const int nl = R.nl(), n0 = R.n0, n1 = nl - n0;
-  const int Kn = K * nb, n3 = 3 * nb;
-  size_lines(sc, nb, nl);
-  if (n0 > 0)
-    stage1(nb, n0, Kn, n3, R.Lc.data(), R.dLc.data(), sc.D0.data(), sc.D0.cols(), sc.A.data(),
-           sc.A.cols(), sc.B.data(), sc.B.cols());
-  if (n1 > 0)
-    stage1(nb, n1, Kn, n3, R.Lc.col(n0).data(), R.dLc.col(n0).data(), sc.D1.data(), sc.D1.cols(),
-           sc.A.row(n0).data(), sc.A.cols(), sc.B.row(n0).data(), sc.B.cols());
+  const int nl = R.nl(), n0 = R.n0;
+  across_lines(nb, K, R, sc);
   if constexpr (M == Mode::Single) {
     (void)sign;  // |n| does not depend on the orientation
     for (int l = 0; l < nl; ++l) {

@@ -64,6 +64,11 @@ void load_element(int nb, int K, const Eigen::Matrix3Xd& x, const Eigen::Matrix3
 void size_lines(Scratch& sc, int nb, int lines);
 void size_scratch(Scratch& sc, int nb, int lines);
 
+// Stage 1 of rule R: for every line, the 1-D interpolation across the lines of the element data in
+// sc.D0 (constant-s lines, the first R.n0) and sc.D1 (the others) into sc.A (K nb values at the
+// along nodes) and sc.B (d/d(across) of the position, 3 nb); sizes A and B.
+void across_lines(int nb, int K, const LineRule& R, Scratch& sc);
+
 // Sum the kernel over the points of one line rule; the element data are in sc.D0/D1 (in the
 // rule's orientation: load_element, or load_chebyshev for Mode::Single); sign: orientation of
 // the rule's (s, t) relative to the element's.
