@@ -10,6 +10,7 @@
 #include "geometry/surface.h"
 #include "spectral/spectral.h"
 #include "stokes/line_sums.h"
+#include "stokes/matrix_sums.h"
 #include "stokes/thread_buffers.h"
 #include "stokes/thread_cap.h"
 
@@ -95,7 +96,8 @@ BoundaryOperators::BoundaryOperators(const geometry::Mesh& mesh, QuadratureOptio
 template <BoundaryOperators::Mode M>
 OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens,
                                        const std::vector<int>* node_targets,
-                                       const Matrix3Xd* point_targets, MatrixXd& out) const {
+                                       const Matrix3Xd* point_targets, MatrixXd& out,
+                                       RowMat* matrix, const NodeExpansion* expansion) const {
   const geometry::Mesh& mesh = mesh_;
   const int nb = mesh.nb(), nb2 = nb * nb, ne = mesh.ne();
   const int nloc = mesh.num_local();
@@ -109,6 +111,21 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
       if (m < 0 || m >= nloc) throw std::invalid_argument("BoundaryOperators: bad target index");
   constexpr int acc_rows = (M == Mode::DoubleNormal) ? 9 : 3;
   out.resize(acc_rows, ntar);
+  // the assembled double layer: one row block of 3 per target, columns by the expansion
+  constexpr bool assemble = M == Mode::DoubleMatrix;
+  if (assemble) {
+    if (!node_targets || !matrix)
+      throw std::invalid_argument("BoundaryOperators: the matrix is assembled at nodes only");
+    if (expansion && (static_cast<int>(expansion->column.size()) != nloc ||
+                      static_cast<int>(expansion->sign.size()) != nloc))
+      throw std::invalid_argument("BoundaryOperators: the expansion does not cover every node");
+    const int ncols = expansion ? expansion->columns : nloc;
+    if (expansion)
+      for (int c : expansion->column)
+        if (c < 0 || c >= ncols)
+          throw std::invalid_argument("BoundaryOperators: an expansion column out of range");
+    matrix->setZero(3 * ntar, 3 * ncols);
+  }
   constexpr int K = uses_density(M) ? 6 : 3;
 
   // ---- far-field data at Gauss points (per call: depends on the geometry) ----
@@ -206,11 +223,36 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
     sc.near.Lc.resize(nb, max_near_lines);
     sc.near.dLc.resize(nb, max_near_lines);
     std::vector<char> own(ne);
+    MatrixWorkspace& mw = thread_buffers<M>().matrix;
+    // assemble: the element's kernel sums E (node in the rule's orientation: perm) added to the
+    // row block of target k, and the total subtracted at the target's own column
+    const auto sym3 = [](const double* s, int i, int j) {
+      static constexpr int idx[3][3] = {{0, 3, 4}, {3, 1, 5}, {4, 5, 2}};
+      return s[idx[i][j]];
+    };
+    const auto place = [&](int node, const double* s, double factor, int k) {
+      const int col = expansion ? expansion->column[node] : node;
+      for (int j = 0; j < 3; ++j) {
+        const double sg = factor * (expansion ? expansion->sign[node][j] : 1.0);
+        for (int i = 0; i < 3; ++i) (*matrix)(3 * k + i, 3 * col + j) += sg * sym3(s, i, j);
+      }
+    };
+    const auto scatter = [&](const MatrixXd& E, int base, const int* perm, int k) {
+      double s[6];
+      for (int n = 0; n < nb2; ++n) {
+        for (int c = 0; c < 6; ++c) s[c] = E(n, c);
+        place(base + (perm ? perm[n] : n), s, 1.0, k);
+      }
+    };
+    const auto scatter_total = [&](const double* t, int node, int k) { place(node, t, -1.0, k); };
+    (void)scatter;
+    (void)scatter_total;
 
 #pragma omp for schedule(dynamic, 1)
     for (int kk = 0; kk < ntar; ++kk) {
       const int k = order[kk];
       double acc[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+      double total[6] = {0, 0, 0, 0, 0, 0};  // assemble: the kernel's sum (the -u(x0) term)
       Vector3d x0, u0 = Vector3d::Zero();
       std::fill(own.begin(), own.end(), 0);
       if (node_targets) {
@@ -228,10 +270,14 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
             load_chebyshev(nb, K, ce[e], sym, sc);
           else
             load_element(nb, K, x, sdens, e * nb2, own_.permutation(sym), sc);
-          if (jf)
+          if constexpr (assemble) {
+            line_matrix(nb, r, basis, sign, x0, sc, mw, mw.E, total);
+            scatter(mw.E, e * nb2, own_.permutation(sym), k);
+          } else if (jf) {
             line_sum_jf(nb, r, basis, x0, sc, acc);
-          else
+          } else {
             line_sum<M>(nb, K, r, basis, sign, x0, u0, sc, acc);
+          }
           own_pairs += r.np();
           if (M == Mode::Single) line_flops += single_rule_flops(nb, r);
         }
@@ -295,20 +341,32 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
             load_chebyshev(nb, K, ce[e], 0, sc);
           else
             load_element(nb, K, x, sdens, e * nb2, nullptr, sc);
-          if (jf)
+          if constexpr (assemble) {
+            line_matrix(nb, sc.near, basis, 1.0, x0, sc, mw, mw.E, total);
+            scatter(mw.E, e * nb2, nullptr, k);
+          } else if (jf) {
             line_sum_jf(nb, sc.near, basis, x0, sc, acc);
-          else
+          } else {
             line_sum<M>(nb, K, sc.near, basis, 1.0, x0, u0, sc, acc);
+          }
           near_pairs += sc.near.np();
           if (M == Mode::Single) line_flops += single_rule_flops(nb, sc.near);
         } else {
           const FarData& fd = far[tier];
           const int nqe = fd.nq * fd.nq;
-          far_sum<M>(fd, e * nqe, (e + 1) * nqe, x0, u0, acc);
+          if constexpr (assemble) {
+            far_matrix(fd, e * nqe, far_basis_[tier].I, x0, mw, mw.E, total);
+            scatter(mw.E, e * nb2, nullptr, k);
+          } else {
+            far_sum<M>(fd, e * nqe, (e + 1) * nqe, x0, u0, acc);
+          }
           far_pairs += nqe;
         }
       }
-      for (int r = 0; r < acc_rows; ++r) out(r, k) = acc[r];
+      if constexpr (assemble)
+        scatter_total(total, (*node_targets)[k], k);
+      else
+        for (int r = 0; r < acc_rows; ++r) out(r, k) = acc[r];
     }
   }
   OperatorStats stats;
@@ -385,6 +443,15 @@ Matrix3Xd BoundaryOperators::single_layer_normal(const Matrix3Xd& x,
   MatrixXd v;
   apply<Mode::SingleNormal>(x, nullptr, &targets, nullptr, v);
   return v;
+}
+
+RowMat BoundaryOperators::double_layer_matrix(const Matrix3Xd& x, const std::vector<int>& targets,
+                                              const NodeExpansion* expansion,
+                                              OperatorStats* stats) const {
+  MatrixXd unused;
+  RowMat a;
+  keep(stats, apply<Mode::DoubleMatrix>(x, nullptr, &targets, nullptr, unused, &a, expansion));
+  return a;
 }
 
 MatrixXd BoundaryOperators::double_layer_normal(const Matrix3Xd& x,

@@ -156,6 +156,15 @@ struct OperatorStats {
   long pairs() const { return far_pairs + own_pairs + near_pairs; }
 };
 
+// A linear expansion of values given at `columns` points to every local node: node m holds
+// sign[m] (component by component) times the value at column[m] (capsule::SymmetryMap: the values
+// at the symmetry targets mirrored to every node).
+struct NodeExpansion {
+  int columns = 0;
+  std::vector<int> column;            // per local node, in [0, columns)
+  std::vector<Eigen::Vector3d> sign;  // per local node
+};
+
 class BoundaryOperators {
  public:
   BoundaryOperators(const geometry::Mesh& mesh, QuadratureOptions options = {});
@@ -180,6 +189,15 @@ class BoundaryOperators {
   void double_layer(const Matrix3Xd& x, const Matrix3Xd& u, const std::vector<int>& targets,
                     Matrix3Xd& out, OperatorStats* stats = nullptr) const;
 
+  // The double layer at the listed local nodes as a matrix A (3 targets x 3 columns, row-major):
+  // row 3 k + i is component i of DL at targets[k], column 3 c + j component j of the value at
+  // column c: DL[u](targets) = A vec(v) for u = expansion(v) (expansion null: v = u, the local
+  // nodes). The same quadrature as double_layer (equal to rounding); costs about one double_layer
+  // call, after which each application is a matrix-vector product (capsule/viscosity_ratio.h).
+  RowMat double_layer_matrix(const Matrix3Xd& x, const std::vector<int>& targets,
+                             const NodeExpansion* expansion = nullptr,
+                             OperatorStats* stats = nullptr) const;
+
   // Identity checks with the exact normal n of the interpolated surface (no nodal density):
   //   INT S.n dS at the listed nodes (3 x targets), and
   //   INT T_ijk n_k dS (column k holds the 3x3 matrix, column-major, 9 x targets).
@@ -201,7 +219,8 @@ class BoundaryOperators {
   template <Mode M>
   OperatorStats apply(const Matrix3Xd& x, const Matrix3Xd* dens,
                       const std::vector<int>* node_targets, const Matrix3Xd* point_targets,
-                      MatrixXd& out) const;
+                      MatrixXd& out, RowMat* matrix = nullptr,
+                      const NodeExpansion* expansion = nullptr) const;
 
   const geometry::Mesh& mesh_;
   QuadratureOptions opt_;

@@ -142,4 +142,8 @@ template void far_data<Mode::DoubleNormal>(const geometry::Mesh&, const Matrix3X
 template void far_sum<Mode::DoubleNormal>(const FarData&, int, int, const Vector3d&,
                                           const Vector3d&, double*);
 
+template void far_data<Mode::DoubleMatrix>(const geometry::Mesh&, const Matrix3Xd&,
+                                           const Matrix3Xd*, const VectorXd&, const MatrixXd&,
+                                           const MatrixXd&, int, FarData&, double*);
+
 }  // namespace capflow::stokes

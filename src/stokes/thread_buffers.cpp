@@ -16,6 +16,7 @@ template ThreadBuffers& thread_buffers<Mode::Single>();
 template ThreadBuffers& thread_buffers<Mode::SingleNormal>();
 template ThreadBuffers& thread_buffers<Mode::Double>();
 template ThreadBuffers& thread_buffers<Mode::DoubleNormal>();
+template ThreadBuffers& thread_buffers<Mode::DoubleMatrix>();
 
 void prepare_thread_buffers(int team) {
 #pragma omp parallel num_threads(std::max(1, team))
@@ -24,6 +25,7 @@ void prepare_thread_buffers(int team) {
     thread_buffers<Mode::SingleNormal>();
     thread_buffers<Mode::Double>();
     thread_buffers<Mode::DoubleNormal>();
+    thread_buffers<Mode::DoubleMatrix>();
   }
 }
 

@@ -10,6 +10,7 @@
 #include "stokes/far_field.h"
 #include "stokes/kernel_mode.h"
 #include "stokes/line_sums.h"
+#include "stokes/matrix_sums.h"
 
 namespace capflow::stokes {
 
@@ -25,6 +26,7 @@ struct ThreadBuffers {
   std::vector<ChebElement> cheb;  // single layer: the elements in Chebyshev coefficients
   Scratch scratch;                // a team thread's element data and line buffers
   FarWorkspace far_ws;            // a team thread's far_data temporaries
+  MatrixWorkspace matrix;         // a team thread's matrix sums (the assembled double layer)
 };
 
 // The calling thread's buffers of mode M.
