@@ -49,4 +49,12 @@ void SymmetryMap::expand(const Eigen::Matrix3Xd& at_targets, Eigen::Matrix3Xd* a
   for (int m = 0; m < n; ++m) all->col(m) = at_targets.col(source_[m]).cwiseProduct(sign_[m]);
 }
 
+stokes::NodeExpansion SymmetryMap::expansion() const {
+  stokes::NodeExpansion ex;
+  ex.columns = static_cast<int>(targets_.size());
+  ex.column = source_;
+  ex.sign = sign_;
+  return ex;
+}
+
 }  // namespace capflow::capsule

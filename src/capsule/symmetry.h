@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "geometry/mesh.h"
+#include "stokes/boundary_integral.h"
 
 namespace capflow::capsule {
 
@@ -29,12 +30,14 @@ class SymmetryMap {
   const std::vector<int>& targets() const { return targets_; }
   // Expands values at targets() (3 x targets) to every local node (3 x num_local).
   void expand(const Eigen::Matrix3Xd& at_targets, Eigen::Matrix3Xd* all) const;
+  // The same map for the operators' assembled forms (stokes::NodeExpansion: columns = targets).
+  stokes::NodeExpansion expansion() const;
 
  private:
   SymmetryKind kind_;
   std::vector<int> targets_;
-  std::vector<int> source_;             // local node -> index into targets_
-  std::vector<Eigen::Vector3d> sign_;   // local node -> component signs
+  std::vector<int> source_;            // local node -> index into targets_
+  std::vector<Eigen::Vector3d> sign_;  // local node -> component signs
 };
 
 }  // namespace capflow::capsule

@@ -13,7 +13,7 @@ constexpr double kPi = 3.14159265358979323846;
 ViscosityRatioSolver::ViscosityRatioSolver(const stokes::BoundaryOperators& ops,
                                            const SymmetryMap& sym, double lambda,
                                            GmresOptions options)
-    : ops_(ops), sym_(sym), lambda_(lambda), options_(options) {
+    : ops_(ops), sym_(sym), lambda_(lambda), options_(options), expansion_(sym.expansion()) {
   if (!(lambda > 0 && lambda <= kMaxViscosityRatio))
     throw std::invalid_argument("viscosity_ratio = " + std::to_string(lambda) +
                                 " is out of range: it must be in (0, " +
@@ -49,11 +49,10 @@ Eigen::Matrix3Xd ViscosityRatioSolver::solve(const Eigen::Matrix3Xd& x, const Ei
   const int n = 3 * nt;
   if (!gmres_ || gmres_->size() != n) gmres_ = std::make_unique<Gmres>(n, options_);
   const double k = kappa();
-  Eigen::Matrix3Xd all, dl(3, nt);
+  const stokes::RowMat dl = ops_.double_layer_matrix(x, targets, &expansion_);
   const Gmres::Operator A = [&](const Eigen::VectorXd& v, Eigen::VectorXd& out) {
-    sym_.expand(Eigen::Map<const Eigen::Matrix3Xd>(v.data(), 3, nt), &all);
-    ops_.double_layer(x, all, targets, dl);
-    out = v - k * Eigen::Map<const Eigen::VectorXd>(dl.data(), n);
+    out.noalias() = dl * v;
+    out = v - k * out;
   };
   const Eigen::VectorXd b = Eigen::Map<const Eigen::VectorXd>(u1.data(), n);
   Eigen::VectorXd y = last_.size() == n ? last_ : b;

@@ -5,8 +5,12 @@
 // second-kind equation
 //   u - kappa DL[u] = u1,   kappa = (1 - lambda) / (8 pi),
 // u1 the velocity at lambda = 1 (u_inf - SL[f] / (8 pi Ca)). Solved at the symmetry targets by
-// GMRES (capsule/gmres.h), the double layer taken over the whole surface (the targets' values
-// mirrored to every node), warm-started from the previous solution.
+// GMRES (capsule/gmres.h), warm-started from the previous solution. The double layer is taken
+// over the whole surface (the targets' values mirrored to every node) and assembled once per
+// solve as a 3 targets x 3 targets matrix (stokes::BoundaryOperators::double_layer_matrix, the
+// mirror images folded into its columns): the assembly costs about two applications of the
+// operator, each GMRES iteration then a matrix-vector product (before: one application per
+// iteration, 5-10 per solve; docs/performance.md).
 // Spectrum: rigid-body motions have DL = 0 (eigenvalue 1 for every lambda); on the unit sphere
 // the radial field x has DL[x] = 8 pi x, so u1 = x gives u = x / lambda: the system is singular
 // as lambda -> 0 (the inner fluid cannot resist a change of volume).
@@ -51,6 +55,7 @@ class ViscosityRatioSolver {
   const SymmetryMap& sym_;
   double lambda_;
   GmresOptions options_;
+  stokes::NodeExpansion expansion_;  // sym.expansion()
   std::unique_ptr<Gmres> gmres_;
   Eigen::VectorXd last_;  // the previous solution (the warm start)
 };
