@@ -1,0 +1,33 @@
+#include "control/run_events.h"
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+namespace capflow::control {
+
+RunEnd last_run_end(const std::string& events_path) {
+  RunEnd end;
+  std::ifstream in(events_path);
+  for (std::string line; std::getline(in, line);) {
+    const nlohmann::json e = nlohmann::json::parse(line, nullptr, false);
+    if (!e.is_object() || e.value("event", "") != "end") continue;
+    RunEnd r;
+    r.found = true;
+    r.reason = e.value("reason", "");
+    r.exit_code = e.value("exit_code", 0);
+    const auto num = [&](const char* k) {
+      const auto it = e.find(k);
+      return it != e.end() && it->is_number() ? it->get<double>() : 0.0;
+    };
+    r.t = num("t");
+    r.D = num("D");
+    r.L = num("L");
+    r.S = num("S");
+    r.W = num("W");
+    r.steps = static_cast<long>(num("steps"));
+    end = r;
+  }
+  return end;
+}
+
+}  // namespace capflow::control

@@ -1,0 +1,21 @@
+// capflow/control/run_events: what a run directory's events.jsonl says about how the run ended
+// (the "end" event that `capflow run` appends, app/simulation.cpp), for `capflow sweep`.
+// Lines that are not JSON objects (a line cut by a crash) are skipped.
+#pragma once
+
+#include <string>
+
+namespace capflow::control {
+
+struct RunEnd {
+  bool found = false;  // an "end" event exists
+  std::string reason;  // "t_end reached", "stopped by signal", "failure", ...
+  int exit_code = 0;
+  double t = 0, D = 0, L = 0, S = 0, W = 0;
+  long steps = 0;
+};
+
+// The last "end" event of the file (found = false if there is none or the file is missing).
+RunEnd last_run_end(const std::string& events_path);
+
+}  // namespace capflow::control
