@@ -1,0 +1,32 @@
+// capflow sweep SWEEP.json: one run per combination of the values a sweep file lists
+// (app/sweep.h, control/sweep.h; docs/usage.md, "capflow sweep").
+#include <memory>
+
+#include "app/commands.h"
+#include "app/sweep.h"
+
+namespace capflow::app {
+namespace {
+
+void setup_sweep(CLI::App& root) {
+  auto args = std::make_shared<SweepArgs>();
+  CLI::App* c = root.add_subcommand(
+      "sweep",
+      "Run a sweep: one run directory per combination of the values a sweep file lists, and a "
+      "summary sweep.csv; re-running it finishes what is missing");
+  c->add_option("sweep", args->file, "Sweep file (JSON: base, vary, output.dir)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  c->add_option("--case", args->only_case, "Run this case only (a Slurm array task)")
+      ->check(CLI::Range(0, 1000000));
+  c->add_flag("--slurm", args->slurm,
+              "Write the case files and a Slurm job array (sweep.sbatch); run nothing");
+  c->add_flag("--summary", args->summary, "Rewrite sweep.csv from the case directories only");
+  c->callback([args] { set_exit_code(run_sweep(*args)); });
+}
+
+}  // namespace
+
+CAPFLOW_COMMAND(7, setup_sweep);
+
+}  // namespace capflow::app

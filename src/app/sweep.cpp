@@ -1,0 +1,290 @@
+#include "app/sweep.h"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <thread>
+#include <vector>
+
+#include "app/errors.h"
+#include "app/run_directory.h"
+#include "app/stop_signal.h"
+#include "control/control_error.h"
+#include "control/run_events.h"
+#include "control/sweep.h"
+
+extern char** environ;
+
+namespace capflow::app {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+enum class Status { New, Done, Failed, Interrupted };
+
+const char* to_string(Status s) {
+  switch (s) {
+    case Status::New:
+      return "new";
+    case Status::Done:
+      return "done";
+    case Status::Failed:
+      return "failed";
+    case Status::Interrupted:
+      return "interrupted";
+  }
+  return "";
+}
+
+struct CaseState {
+  Status status = Status::New;
+  control::RunEnd end;
+  bool has_checkpoint = false;
+};
+
+CaseState state_of(const fs::path& run) {
+  CaseState s;
+  if (!RunDirectory::is_run(run)) return s;
+  s.end = control::last_run_end((run / "events.jsonl").string());
+  s.has_checkpoint = !RunDirectory::checkpoints(run).empty();
+  if (s.end.found && s.end.exit_code == exit_code::kOk && s.end.reason != "stopped by signal")
+    s.status = Status::Done;
+  else if (s.end.found && s.end.exit_code == exit_code::kSimulationFailed)
+    s.status = Status::Failed;
+  else
+    s.status = Status::Interrupted;
+  return s;
+}
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// Replaces p with text (temporary file and rename); OutputError naming p on failure.
+void write_atomically(const fs::path& p, const std::string& text) {
+  const fs::path tmp = p.string() + ".tmp" + std::to_string(getpid());
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    out << text;
+    out.flush();
+    if (!out) throw OutputError("cannot write " + tmp.string());
+  }
+  std::error_code ec;
+  fs::rename(tmp, p, ec);
+  if (ec) throw OutputError("cannot write " + p.string() + ": " + ec.message());
+}
+
+// The case control files: written when absent, refused when they differ from the sweep's.
+void write_case_files(const control::SweepPlan& plan) {
+  std::error_code ec;
+  fs::create_directories(plan.dir, ec);
+  if (ec) throw OutputError("cannot create the sweep directory " + plan.dir + ": " + ec.message());
+  for (const control::SweepCase& c : plan.cases) {
+    const fs::path p = fs::path(plan.dir) / (c.name + ".json");
+    if (fs::exists(p)) {
+      if (read_text(p) != c.control_text)
+        throw UserError(p.string() + " differs from " + c.name + " of this sweep file (" +
+                        c.label() +
+                        "): the sweep changed since that case was made; give the sweep another "
+                        "output.dir, or remove " +
+                        plan.dir);
+      continue;
+    }
+    write_atomically(p, c.control_text);
+  }
+}
+
+std::string self_exe() {
+  std::error_code ec;
+  const fs::path p = fs::read_symlink("/proc/self/exe", ec);
+  if (ec) throw std::runtime_error("cannot find the capflow executable: " + ec.message());
+  return p.string();
+}
+
+// Runs `capflow args...` with stdout and stderr appended to log, in its own process group; the
+// first stop signal of the sweep is passed on as one SIGTERM. Returns the exit code (128 + the
+// signal if it was killed).
+int run_child(const std::vector<std::string>& args, const fs::path& log,
+              const std::atomic<bool>* stop) {
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  posix_spawn_file_actions_addopen(&fa, 1, log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
+  posix_spawn_file_actions_adddup2(&fa, 1, 2);
+  posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
+  posix_spawnattr_t at;
+  posix_spawnattr_init(&at);
+  posix_spawnattr_setpgroup(&at, 0);
+  sigset_t def;
+  sigemptyset(&def);
+  sigaddset(&def, SIGINT);
+  sigaddset(&def, SIGTERM);
+  sigaddset(&def, SIGHUP);
+  posix_spawnattr_setsigdefault(&at, &def);
+  posix_spawnattr_setflags(&at, POSIX_SPAWN_SETPGROUP | POSIX_SPAWN_SETSIGDEF);
+  std::vector<char*> argv;
+  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  const int rc = posix_spawn(&pid, argv[0], &fa, &at, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&fa);
+  posix_spawnattr_destroy(&at);
+  if (rc != 0) throw std::runtime_error("cannot start " + args[0] + ": " + std::strerror(rc));
+  bool forwarded = false;
+  int status = 0;
+  while (true) {
+    const pid_t r = waitpid(pid, &status, WNOHANG);
+    if (r == pid) break;
+    if (r < 0 && errno != EINTR) throw std::runtime_error("waitpid failed");
+    if (stop->load() && !forwarded) {
+      kill(pid, SIGTERM);
+      forwarded = true;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  if (WIFEXITED(status)) return WEXITSTATUS(status);
+  return 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+}
+
+std::string csv_field(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string q = "\"";
+  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+
+void write_summary(const control::SweepPlan& plan) {
+  std::ostringstream out;
+  out << "case";
+  for (const std::string& k : plan.keys) out << "," << csv_field(k);
+  out << ",status,exit_code,reason,t,D,L,S,W,steps,dir\n";
+  for (const control::SweepCase& c : plan.cases) {
+    const fs::path run = fs::path(plan.dir) / c.name;
+    const CaseState s = state_of(run);
+    out << c.index;
+    for (const auto& [k, v] : c.values) out << "," << csv_field(v);
+    out << "," << to_string(s.status);
+    if (s.end.found) {
+      char buf[256];
+      std::snprintf(buf, sizeof buf, ",%d,%s,%.10g,%.10g,%.10g,%.10g,%.10g,%ld", s.end.exit_code,
+                    csv_field(s.end.reason).c_str(), s.end.t, s.end.D, s.end.L, s.end.S, s.end.W,
+                    s.end.steps);
+      out << buf;
+    } else {
+      out << ",,,,,,,,";
+    }
+    out << "," << csv_field(run.string()) << "\n";
+  }
+  write_atomically(fs::path(plan.dir) / "sweep.csv", out.str());
+}
+
+void write_slurm(const control::SweepPlan& plan, const std::string& sweep_file) {
+  std::ostringstream s;
+  s << "#!/bin/bash\n"
+    << "# capflow sweep " << sweep_file << ": one Slurm array task per case (" << plan.cases.size()
+    << " cases). Submit with: sbatch " << (fs::path(plan.dir) / "sweep.sbatch").string() << "\n"
+    << "# Afterwards: capflow sweep " << sweep_file << " --summary  (writes sweep.csv)\n"
+    << "#SBATCH --job-name=capflow-sweep\n"
+    << "#SBATCH --array=0-" << plan.cases.size() - 1 << "\n"
+    << "#SBATCH --cpus-per-task=2\n"
+    << "#SBATCH --output=" << (fs::path(plan.dir) / "slurm_%a.out").string() << "\n"
+    << "export OMP_NUM_THREADS=${SLURM_CPUS_PER_TASK:-2}\n"
+    << "cd " << fs::current_path().string() << "\n"
+    << "exec " << self_exe() << " sweep " << sweep_file << " --case \"$SLURM_ARRAY_TASK_ID\"\n";
+  write_atomically(fs::path(plan.dir) / "sweep.sbatch", s.str());
+}
+
+}  // namespace
+
+int run_sweep(const SweepArgs& a) {
+  control::SweepPlan plan;
+  try {
+    plan = control::load_sweep_file(a.file);
+  } catch (const control::ControlError& e) {
+    throw UserError(e.what());
+  }
+  const int n = static_cast<int>(plan.cases.size());
+  if (a.only_case >= n)
+    throw UserError("--case " + std::to_string(a.only_case) + ": the sweep has cases 0 to " +
+                    std::to_string(n - 1));
+  write_case_files(plan);
+  if (a.slurm) {
+    write_slurm(plan, a.file);
+    std::cout << "sweep: " << n << " cases; submit "
+              << (fs::path(plan.dir) / "sweep.sbatch").string()
+              << " with sbatch, then run capflow sweep " << a.file << " --summary\n";
+    return exit_code::kOk;
+  }
+  if (a.summary) {
+    write_summary(plan);
+    return exit_code::kOk;
+  }
+  const std::atomic<bool>* stop = install_stop_signals();
+  const std::string exe = self_exe();
+  int failed = 0, output_failed = 0;
+  for (const control::SweepCase& c : plan.cases) {
+    if (a.only_case >= 0 && c.index != a.only_case) continue;
+    if (stop->load()) break;
+    const fs::path run = fs::path(plan.dir) / c.name;
+    const fs::path control = fs::path(plan.dir) / (c.name + ".json");
+    const CaseState before = state_of(run);
+    std::cout << "sweep: " << c.name << " (" << c.index + 1 << "/" << n << ", " << c.label()
+              << "): ";
+    if (before.status == Status::Done || before.status == Status::Failed) {
+      std::cout << to_string(before.status) << " before, skipped\n" << std::flush;
+      failed += before.status == Status::Failed;
+      continue;
+    }
+    std::vector<std::string> args = {exe, "run"};
+    if (before.status == Status::Interrupted && before.has_checkpoint) {
+      std::cout << "resuming" << std::flush;
+      args.insert(args.end(), {"--resume", run.string()});
+    } else {
+      std::cout << "running" << std::flush;
+      args.insert(args.end(), {control.string(), "-o", run.string(), "--overwrite"});
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    const int code = run_child(args, fs::path(plan.dir) / (c.name + ".log"), stop);
+    const double wall =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const CaseState after = state_of(run);
+    char buf[200];
+    std::snprintf(buf, sizeof buf, " -> %s (exit %d, %.1f s", to_string(after.status), code, wall);
+    std::cout << buf;
+    if (after.end.found) {
+      std::snprintf(buf, sizeof buf, ", %s, t=%g D=%.5f", after.end.reason.c_str(), after.end.t,
+                    after.end.D);
+      std::cout << buf;
+    }
+    std::cout << ")\n" << std::flush;
+    if (code == exit_code::kUserError && !after.end.found)
+      std::cout << "sweep: case " << c.index << " did not start; see "
+                << (fs::path(plan.dir) / (c.name + ".log")).string() << "\n";
+    failed += code == exit_code::kSimulationFailed;
+    output_failed += code == exit_code::kOutputFailed;
+    if (a.only_case < 0) write_summary(plan);
+  }
+  if (a.only_case < 0) write_summary(plan);
+  if (stop->load())
+    std::cout << "sweep: stopped by a signal; run capflow sweep " << a.file
+              << " again to continue\n";
+  if (output_failed) return exit_code::kOutputFailed;
+  if (failed) return exit_code::kSimulationFailed;
+  return exit_code::kOk;
+}
+
+}  // namespace capflow::app

@@ -1,0 +1,39 @@
+// capflow/app/sweep: `capflow sweep SWEEP.json` - one run per case of a sweep file
+// (control/sweep.h), each a `capflow run` child process, and a summary.
+//
+// Sweep directory (output.dir of the sweep file):
+//   case_NNN.json   the case's control file (written once; a later sweep whose case differs is
+//                   refused: the runs would not belong to it)
+//   case_NNN/       the case's run directory          case_NNN.log  its console output
+//   sweep.csv       one row per case: its values, status, exit code, end reason and final
+//                   t, D, L, S, W, steps (rewritten after every case)
+//   sweep.sbatch    with --slurm: a Slurm job array, one task per case (--case
+//   $SLURM_ARRAY_TASK_ID)
+// A case's status comes from its run directory (the run's "end" event, control/run_events.h):
+//   done         ended with exit code 0 (t_end, steady state, run.state "stopped"): skipped
+//   failed       the simulation failed (exit 4): skipped, reported (remove case_NNN/ to retry)
+//   interrupted  stopped by a signal, an output failure, or no end at all: resumed from its
+//                newest checkpoint (restarted when it has none)
+//   new          no run yet: started
+// So re-running a sweep finishes what is missing and does nothing once every case is done.
+// Each child runs in its own process group: the first SIGINT/SIGTERM/SIGHUP of the sweep is
+// passed to the running case as one SIGTERM (it checkpoints and stops), and no further case
+// starts. Only `capflow run` controls are swept (not `capflow steady` ones).
+#pragma once
+
+#include <string>
+
+namespace capflow::app {
+
+struct SweepArgs {
+  std::string file;      // the sweep file
+  int only_case = -1;    // >= 0: run this case only, leave sweep.csv alone (Slurm array tasks)
+  bool slurm = false;    // write the case files and sweep.sbatch, run nothing
+  bool summary = false;  // rewrite sweep.csv from the case directories, run nothing
+};
+
+// Runs the sweep; returns the exit code (0 every case done, 4 some case failed, 5 an output
+// failure). UserError for a bad sweep file or arguments (exit 2).
+int run_sweep(const SweepArgs& args);
+
+}  // namespace capflow::app
