@@ -8,6 +8,7 @@
 #include "control/control_file.h"
 #include "control/edit.h"
 #include "control/stability.h"
+#include "control/sweep.h"
 
 using namespace capflow::control;
 
@@ -367,6 +368,15 @@ TEST(ControlFile, EveryShippedExampleIsValid) {
     }
   }
   EXPECT_GE(n, 6);
+  // examples/sweeps: sweep files (capflow sweep), every case valid
+  int sweeps = 0;
+  for (const auto& e :
+       std::filesystem::directory_iterator(std::string(CAPFLOW_SOURCE_DIR) + "/examples/sweeps")) {
+    if (e.path().extension() != ".json") continue;
+    EXPECT_NO_THROW(capflow::control::load_sweep_file(e.path().string())) << e.path();
+    ++sweeps;
+  }
+  EXPECT_GE(sweeps, 1);
 }
 
 TEST(ControlEdit, QuadratureScaleCannotChangeMidRun) {
