@@ -37,8 +37,9 @@
 #include <vector>
 
 #include "app/commands.h"
-#include "app/render_flags.h"
 #include "app/figure_data.h"
+#include "app/render_flags.h"
+#include "app/run_directory.h"
 #include "control/control_file.h"
 #include "membrane/law.h"
 #include "output/png_writer.h"
@@ -627,8 +628,56 @@ void view_figures(Context& cx, const std::vector<Run>& runs) {
   }
 }
 
-int run(const FigureCmd& c) {
-  if (c.runs.empty()) throw UserError("give at least one run directory");
+// A sweep directory (capflow sweep: sweep.csv and case_NNN/ run directories) given in place of a
+// run stands for its cases, labelled by their values ("ca=0.3 capsule.C=1") from sweep.csv.
+void expand_sweeps(FigureCmd* c) {
+  if (!c->labels.empty()) return;
+  std::vector<std::string> runs, labels;
+  bool any = false;
+  for (const std::string& r : c->runs) {
+    const fs::path csv = fs::path(r) / "sweep.csv";
+    if (RunDirectory::is_run(r) || !fs::is_regular_file(csv)) {
+      runs.push_back(r);
+      labels.push_back("");
+      continue;
+    }
+    any = true;
+    std::ifstream in(csv);
+    std::string header, line;
+    std::getline(in, header);
+    std::vector<std::string> keys;
+    {
+      std::stringstream h(header);
+      for (std::string k; std::getline(h, k, ',');) keys.push_back(k);
+    }
+    const auto status_at = std::find(keys.begin(), keys.end(), "status") - keys.begin();
+    while (std::getline(in, line)) {
+      std::vector<std::string> v;
+      std::stringstream row(line);
+      for (std::string f; std::getline(row, f, ',');) v.push_back(f);
+      if (v.empty()) continue;
+      char name[32];
+      std::snprintf(name, sizeof name, "case_%03d", std::atoi(v[0].c_str()));
+      const fs::path dir = fs::path(r) / name;
+      if (!RunDirectory::is_run(dir)) continue;
+      std::string label;
+      for (long k = 1; k < status_at && k < static_cast<long>(v.size()); ++k)
+        label += (label.empty() ? "" : " ") + keys[k] + "=" + v[k];
+      runs.push_back(dir.string());
+      labels.push_back(label.empty() ? name : label);
+    }
+  }
+  if (!any) return;
+  c->runs = runs;
+  c->labels = labels;
+  for (size_t i = 0; i < runs.size(); ++i)
+    if (c->labels[i].empty())
+      c->labels[i] = fs::path(runs[i]).lexically_normal().filename().string();
+}
+
+int run(FigureCmd c) {
+  expand_sweeps(&c);
+  if (c.runs.empty()) throw UserError("give at least one run directory (or a sweep directory)");
   if (!c.labels.empty() && c.labels.size() != c.runs.size())
     throw UserError("--labels needs one label per run directory (" + std::to_string(c.runs.size()) +
                     ")");
@@ -692,7 +741,10 @@ void setup(CLI::App& root) {
       "scripts + data + SVG/PDF + PNG) and 3-D views (rendered from the saved surface\n"
       "nearest in time; from the nearest frame PNG when the run saved no surface).\n"
       "figures.md in the output directory lists what was made and from what.");
-  sub->add_option("runs", c->runs, "run directories (several: overlaid / compared)")->required();
+  sub->add_option(
+         "runs", c->runs,
+         "run directories (several: overlaid / compared), or a sweep directory (its cases)")
+      ->required();
   sub->add_option("-o,--output", c->out, "output directory (created)");
   sub->add_option("--kinds", c->kinds, "timeseries,profiles,steady,views (default all)")
       ->delimiter(',')

@@ -52,6 +52,15 @@ TEST(Sweep, TwoByTwoFinishesAndASecondCallDoesNothing) {
   ASSERT_EQ(sweep({s.string()}, d / "log2"), 0) << test::read_file(d / "log2");
   for (int i = 0; i < 4; ++i)
     EXPECT_EQ(test::count_events(d / "out" / ("case_00" + std::to_string(i)), "end"), 1) << i;
+  // capflow figure takes the sweep directory for its cases, labelled by their values
+  ASSERT_EQ(test::run_capflow({CAPFLOW_EXE, "figure", (d / "out").string(), "-o",
+                               (d / "fig").string(), "--kinds", "timeseries", "--no-gnuplot"},
+                              d / "log_fig", 120),
+            0)
+      << test::read_file(d / "log_fig");
+  EXPECT_NE(test::read_file(d / "fig" / "figures.md").find("(ca=0.6 capsule.C=3)"),
+            std::string::npos)
+      << test::read_file(d / "fig" / "figures.md");
   // a changed sweep into the same directory is refused: its runs would not belong to it
   write_sweep(d, 0.05, R"({"ca": [0.3, 0.5], "capsule.C": [1, 3]})");
   EXPECT_EQ(sweep({s.string()}, d / "log3"), 2);
