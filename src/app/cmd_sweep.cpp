@@ -21,6 +21,9 @@ void setup_sweep(CLI::App& root) {
       ->check(CLI::Range(0, 1000000));
   c->add_flag("--slurm", args->slurm,
               "Write the case files and a Slurm job array (sweep.sbatch); run nothing");
+  c->add_option("-j,--jobs", args->jobs,
+                "Cases run side by side, each with cores / jobs OpenMP threads (default 1)")
+      ->check(CLI::Range(1, 1024));
   c->add_flag("--summary", args->summary, "Rewrite sweep.csv from the case directories only");
   c->callback([args] { set_exit_code(run_sweep(*args)); });
 }

@@ -6,9 +6,11 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -116,11 +118,10 @@ std::string self_exe() {
   return p.string();
 }
 
-// Runs `capflow args...` with stdout and stderr appended to log, in its own process group; the
-// first stop signal of the sweep is passed on as one SIGTERM. Returns the exit code (128 + the
-// signal if it was killed).
-int run_child(const std::vector<std::string>& args, const fs::path& log,
-              const std::atomic<bool>* stop) {
+// Starts `capflow args...` with stdout and stderr appended to log, in its own process group (a
+// terminal's signals reach the sweep only, which passes them on), with OMP_NUM_THREADS = threads
+// when threads > 0. Returns the child's pid.
+pid_t start_child(const std::vector<std::string>& args, const fs::path& log, int threads) {
   posix_spawn_file_actions_t fa;
   posix_spawn_file_actions_init(&fa);
   posix_spawn_file_actions_addopen(&fa, 1, log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
@@ -139,25 +140,37 @@ int run_child(const std::vector<std::string>& args, const fs::path& log,
   std::vector<char*> argv;
   for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(nullptr);
+  // the environment, with OMP_NUM_THREADS replaced when the sweep divides the cores
+  std::vector<std::string> env_text;
+  for (char** e = environ; *e; ++e)
+    if (threads <= 0 || std::strncmp(*e, "OMP_NUM_THREADS=", 16) != 0) env_text.emplace_back(*e);
+  if (threads > 0) env_text.push_back("OMP_NUM_THREADS=" + std::to_string(threads));
+  std::vector<char*> envp;
+  for (std::string& e : env_text) envp.push_back(e.data());
+  envp.push_back(nullptr);
   pid_t pid = 0;
-  const int rc = posix_spawn(&pid, argv[0], &fa, &at, argv.data(), environ);
+  const int rc = posix_spawn(&pid, argv[0], &fa, &at, argv.data(), envp.data());
   posix_spawn_file_actions_destroy(&fa);
   posix_spawnattr_destroy(&at);
   if (rc != 0) throw std::runtime_error("cannot start " + args[0] + ": " + std::strerror(rc));
-  bool forwarded = false;
-  int status = 0;
-  while (true) {
-    const pid_t r = waitpid(pid, &status, WNOHANG);
-    if (r == pid) break;
-    if (r < 0 && errno != EINTR) throw std::runtime_error("waitpid failed");
-    if (stop->load() && !forwarded) {
-      kill(pid, SIGTERM);
-      forwarded = true;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
+  return pid;
+}
+
+// The exit code of a finished child's wait status (128 + the signal if it was killed).
+int exit_code_of(int status) {
   if (WIFEXITED(status)) return WEXITSTATUS(status);
   return 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+}
+
+// The command that continues case c: resume an interrupted run that has a checkpoint, else start
+// it afresh.
+std::vector<std::string> case_command(const std::string& exe, const control::SweepPlan& plan,
+                                      const control::SweepCase& c, const CaseState& state) {
+  const fs::path run = fs::path(plan.dir) / c.name;
+  if (state.status == Status::Interrupted && state.has_checkpoint)
+    return {exe, "run", "--resume", run.string()};
+  return {exe,  "run",        (fs::path(plan.dir) / (c.name + ".json")).string(),
+          "-o", run.string(), "--overwrite"};
 }
 
 std::string csv_field(const std::string& s) {
@@ -235,49 +248,82 @@ int run_sweep(const SweepArgs& a) {
   }
   const std::atomic<bool>* stop = install_stop_signals();
   const std::string exe = self_exe();
+  // --jobs N: N cases side by side, the cores divided among them (unless OMP_NUM_THREADS is set)
+  const int jobs = std::max(1, a.jobs);
+  const int threads =
+      jobs > 1 && !std::getenv("OMP_NUM_THREADS")
+          ? std::max(1, static_cast<int>(std::thread::hardware_concurrency()) / jobs)
+          : 0;
+  struct Running {
+    pid_t pid;
+    const control::SweepCase* c;
+    std::chrono::steady_clock::time_point t0;
+  };
+  std::vector<Running> running;
   int failed = 0, output_failed = 0;
-  for (const control::SweepCase& c : plan.cases) {
-    if (a.only_case >= 0 && c.index != a.only_case) continue;
-    if (stop->load()) break;
-    const fs::path run = fs::path(plan.dir) / c.name;
-    const fs::path control = fs::path(plan.dir) / (c.name + ".json");
-    const CaseState before = state_of(run);
-    std::cout << "sweep: " << c.name << " (" << c.index + 1 << "/" << n << ", " << c.label()
-              << "): ";
-    if (before.status == Status::Done || before.status == Status::Failed) {
-      std::cout << to_string(before.status) << " before, skipped\n" << std::flush;
-      failed += before.status == Status::Failed;
-      continue;
-    }
-    std::vector<std::string> args = {exe, "run"};
-    if (before.status == Status::Interrupted && before.has_checkpoint) {
-      std::cout << "resuming" << std::flush;
-      args.insert(args.end(), {"--resume", run.string()});
-    } else {
-      std::cout << "running" << std::flush;
-      args.insert(args.end(), {control.string(), "-o", run.string(), "--overwrite"});
-    }
-    const auto t0 = std::chrono::steady_clock::now();
-    const int code = run_child(args, fs::path(plan.dir) / (c.name + ".log"), stop);
+  bool forwarded = false;
+  const auto prefix = [&](const control::SweepCase& c) {
+    return "sweep: " + c.name + " (" + std::to_string(c.index + 1) + "/" + std::to_string(n) +
+           ", " + c.label() + "): ";
+  };
+  // One case ended: its line, the counts and the summary.
+  const auto finished = [&](const Running& r, int code) {
     const double wall =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    const CaseState after = state_of(run);
-    char buf[200];
-    std::snprintf(buf, sizeof buf, " -> %s (exit %d, %.1f s", to_string(after.status), code, wall);
-    std::cout << buf;
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - r.t0).count();
+    const CaseState after = state_of(fs::path(plan.dir) / r.c->name);
+    char buf[300];
+    std::snprintf(buf, sizeof buf, "%s (exit %d, %.1f s", to_string(after.status), code, wall);
+    std::string line = prefix(*r.c) + buf;
     if (after.end.found) {
       std::snprintf(buf, sizeof buf, ", %s, t=%g D=%.5f", after.end.reason.c_str(), after.end.t,
                     after.end.D);
-      std::cout << buf;
+      line += buf;
     }
-    std::cout << ")\n" << std::flush;
+    std::cout << line << ")\n";
     if (code == exit_code::kUserError && !after.end.found)
-      std::cout << "sweep: case " << c.index << " did not start; see "
-                << (fs::path(plan.dir) / (c.name + ".log")).string() << "\n";
+      std::cout << "sweep: " << r.c->name << " did not start; see "
+                << (fs::path(plan.dir) / (r.c->name + ".log")).string() << "\n";
+    std::cout << std::flush;
     failed += code == exit_code::kSimulationFailed;
     output_failed += code == exit_code::kOutputFailed;
     if (a.only_case < 0) write_summary(plan);
+  };
+  // Waits until a slot is free (max_running children at most), passing a stop signal on once.
+  const auto wait_until = [&](size_t max_running) {
+    while (running.size() > max_running) {
+      if (stop->load() && !forwarded) {
+        for (const Running& r : running) kill(r.pid, SIGTERM);
+        forwarded = true;
+      }
+      for (size_t i = 0; i < running.size();) {
+        int status = 0;
+        if (waitpid(running[i].pid, &status, WNOHANG) == running[i].pid) {
+          finished(running[i], exit_code_of(status));
+          running.erase(running.begin() + static_cast<long>(i));
+        } else {
+          ++i;
+        }
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+  };
+  for (const control::SweepCase& c : plan.cases) {
+    if (a.only_case >= 0 && c.index != a.only_case) continue;
+    wait_until(static_cast<size_t>(jobs) - 1);
+    if (stop->load()) break;
+    const CaseState before = state_of(fs::path(plan.dir) / c.name);
+    if (before.status == Status::Done || before.status == Status::Failed) {
+      std::cout << prefix(c) << to_string(before.status) << " before, skipped\n" << std::flush;
+      failed += before.status == Status::Failed;
+      continue;
+    }
+    const bool resume = before.status == Status::Interrupted && before.has_checkpoint;
+    std::cout << prefix(c) << (resume ? "resuming" : "running") << "\n" << std::flush;
+    running.push_back({start_child(case_command(exe, plan, c, before),
+                                   fs::path(plan.dir) / (c.name + ".log"), threads),
+                       &c, std::chrono::steady_clock::now()});
   }
+  wait_until(0);
   if (a.only_case < 0) write_summary(plan);
   if (stop->load())
     std::cout << "sweep: stopped by a signal; run capflow sweep " << a.file

@@ -16,9 +16,10 @@
 //                newest checkpoint (restarted when it has none)
 //   new          no run yet: started
 // So re-running a sweep finishes what is missing and does nothing once every case is done.
-// Each child runs in its own process group: the first SIGINT/SIGTERM/SIGHUP of the sweep is
-// passed to the running case as one SIGTERM (it checkpoints and stops), and no further case
-// starts. Only `capflow run` controls are swept (not `capflow steady` ones).
+// --jobs N runs N cases side by side, each with (cores / N) OpenMP threads unless OMP_NUM_THREADS
+// is set. Each child runs in its own process group: the first SIGINT/SIGTERM/SIGHUP of the sweep
+// is passed to the running cases as one SIGTERM each (they checkpoint and stop), and no further
+// case starts. Only `capflow run` controls are swept (not `capflow steady` ones).
 #pragma once
 
 #include <string>
@@ -30,6 +31,7 @@ struct SweepArgs {
   int only_case = -1;    // >= 0: run this case only, leave sweep.csv alone (Slurm array tasks)
   bool slurm = false;    // write the case files and sweep.sbatch, run nothing
   bool summary = false;  // rewrite sweep.csv from the case directories, run nothing
+  int jobs = 1;          // cases side by side (each with cores / jobs OpenMP threads)
 };
 
 // Runs the sweep; returns the exit code (0 every case done, 4 some case failed, 5 an output

@@ -1,6 +1,7 @@
-// capflow sweep (app/sweep.h) through the executable: a 2 x 2 sweep finishes and a second call
-// does nothing; a stopped sweep resumes its interrupted case; a changed sweep, a bad sweep file and
-// a bad --case are refused with exit 2; --slurm writes a job array and --case runs one case.
+// capflow sweep (app/sweep.h) through the executable: a 2 x 2 sweep (two cases side by side)
+// finishes and a second call does nothing; a stopped sweep resumes its interrupted case; a changed
+// sweep, a bad sweep file and a bad --case are refused with exit 2; --slurm writes a job array and
+// --case runs one case.
 #include <gtest/gtest.h>
 #include <signal.h>
 
@@ -38,7 +39,8 @@ int sweep(const std::vector<std::string>& extra, const fs::path& log) {
 TEST(Sweep, TwoByTwoFinishesAndASecondCallDoesNothing) {
   const fs::path d = test::fresh_dir("sweep_2x2");
   const fs::path s = write_sweep(d, 0.05, R"({"ca": [0.3, 0.6], "capsule.C": [1, 3]})");
-  ASSERT_EQ(sweep({s.string()}, d / "log1"), 0) << test::read_file(d / "log1");
+  // two cases side by side
+  ASSERT_EQ(sweep({s.string(), "--jobs", "2"}, d / "log1"), 0) << test::read_file(d / "log1");
   const std::vector<std::string> rows = test::lines_of(d / "out" / "sweep.csv");
   ASSERT_EQ(rows.size(), 5u);
   EXPECT_EQ(rows[0], "case,ca,capsule.C,status,exit_code,reason,t,D,L,S,W,steps,dir");
