@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/file.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -180,7 +181,27 @@ std::string csv_field(const std::string& s) {
   return q + "\"";
 }
 
+// Holds an exclusive flock on a file for its life (sweep.csv.lock: the summary is read from the
+// case directories and written under it, so that of several launcher ranks the last one to
+// write read last, after every other rank's cases ended).
+class FileLock {
+ public:
+  explicit FileLock(const fs::path& p)
+      : fd_(::open(p.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644)) {
+    if (fd_ < 0) throw OutputError("cannot open " + p.string() + ": " + std::strerror(errno));
+    while (flock(fd_, LOCK_EX) != 0 && errno == EINTR) {
+    }
+  }
+  ~FileLock() { ::close(fd_); }
+  FileLock(const FileLock&) = delete;
+  FileLock& operator=(const FileLock&) = delete;
+
+ private:
+  int fd_;
+};
+
 void write_summary(const control::SweepPlan& plan) {
+  const FileLock lock(fs::path(plan.dir) / "sweep.csv.lock");
   std::ostringstream out;
   out << "case";
   for (const std::string& k : plan.keys) out << "," << csv_field(k);
@@ -219,6 +240,27 @@ void write_slurm(const control::SweepPlan& plan, const std::string& sweep_file) 
     << "cd " << fs::current_path().string() << "\n"
     << "exec " << self_exe() << " sweep " << sweep_file << " --case \"$SLURM_ARRAY_TASK_ID\"\n";
   write_atomically(fs::path(plan.dir) / "sweep.sbatch", s.str());
+}
+
+// This process's share of the cases when an MPI launcher (mpirun, or srun) started several:
+// cases with index % size == rank. The rank and size come from the launcher's environment
+// (Open MPI, MPICH/PMI, Slurm), so no MPI library is needed: the cases do not communicate.
+struct Share {
+  int rank = 0, size = 1;
+};
+
+Share launcher_share() {
+  const char* pairs[][2] = {{"OMPI_COMM_WORLD_RANK", "OMPI_COMM_WORLD_SIZE"},
+                            {"PMI_RANK", "PMI_SIZE"},
+                            {"SLURM_PROCID", "SLURM_NTASKS"}};
+  for (const auto& p : pairs) {
+    const char* r = std::getenv(p[0]);
+    const char* n = std::getenv(p[1]);
+    if (!r || !n) continue;
+    Share s{std::atoi(r), std::atoi(n)};
+    if (s.size >= 1 && s.rank >= 0 && s.rank < s.size) return s;
+  }
+  return {};
 }
 
 }  // namespace
@@ -262,9 +304,13 @@ int run_sweep(const SweepArgs& a) {
   std::vector<Running> running;
   int failed = 0, output_failed = 0;
   bool forwarded = false;
+  const Share share = a.only_case >= 0 ? Share{} : launcher_share();
+  const std::string who = share.size > 1 ? "sweep [rank " + std::to_string(share.rank) + "/" +
+                                               std::to_string(share.size) + "]: "
+                                         : "sweep: ";
   const auto prefix = [&](const control::SweepCase& c) {
-    return "sweep: " + c.name + " (" + std::to_string(c.index + 1) + "/" + std::to_string(n) +
-           ", " + c.label() + "): ";
+    return who + c.name + " (" + std::to_string(c.index + 1) + "/" + std::to_string(n) + ", " +
+           c.label() + "): ";
   };
   // One case ended: its line, the counts and the summary.
   const auto finished = [&](const Running& r, int code) {
@@ -309,6 +355,7 @@ int run_sweep(const SweepArgs& a) {
   };
   for (const control::SweepCase& c : plan.cases) {
     if (a.only_case >= 0 && c.index != a.only_case) continue;
+    if (c.index % share.size != share.rank) continue;
     wait_until(static_cast<size_t>(jobs) - 1);
     if (stop->load()) break;
     const CaseState before = state_of(fs::path(plan.dir) / c.name);

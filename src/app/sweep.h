@@ -16,10 +16,14 @@
 //                newest checkpoint (restarted when it has none)
 //   new          no run yet: started
 // So re-running a sweep finishes what is missing and does nothing once every case is done.
-// --jobs N runs N cases side by side, each with (cores / N) OpenMP threads unless OMP_NUM_THREADS
-// is set. Each child runs in its own process group: the first SIGINT/SIGTERM/SIGHUP of the sweep
-// is passed to the running cases as one SIGTERM each (they checkpoint and stop), and no further
-// case starts. Only `capflow run` controls are swept (not `capflow steady` ones).
+// Under an MPI launcher (`mpirun -np R capflow sweep ...`, or srun) each of the R processes runs
+// the cases with index % R == its rank (the rank from the launcher's environment; the cases do
+// not communicate); each rewrites sweep.csv after its cases, so the last one to finish leaves
+// the complete summary. --jobs N runs N cases side by side, each with (cores / N) OpenMP threads
+// unless OMP_NUM_THREADS is set. Each child runs in its own process group: the first
+// SIGINT/SIGTERM/SIGHUP of the sweep is passed to the running cases as one SIGTERM each (they
+// checkpoint and stop), and no further case starts. Only `capflow run` controls are swept (not
+// `capflow steady` ones).
 #pragma once
 
 #include <string>

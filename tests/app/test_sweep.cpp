@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 
+#include <cstdlib>
 #include <string>
 
 #include "process_util.h"
@@ -124,5 +125,27 @@ TEST(Sweep, ABadSweepFileExitsTwoNamingTheField) {
             std::string::npos)
       << test::read_file(d / "log");
   EXPECT_FALSE(fs::exists(d / "out")) << "nothing is made for a bad sweep";
+  fs::remove_all(d);
+}
+
+TEST(Sweep, TheRanksOfAnMpiLauncherShareTheCases) {
+  // mpirun -np 2: each rank runs the cases with index % 2 == its rank, once each; the summary
+  // (written under a lock after each case) ends complete. scripts/setup installs openmpi-bin.
+  if (std::system("command -v mpirun > /dev/null 2>&1") != 0)
+    GTEST_SKIP() << "mpirun not found (scripts/setup installs openmpi-bin)";
+  const fs::path d = test::fresh_dir("sweep_mpi");
+  const fs::path s = write_sweep(d, 0.05, R"({"ca": [0.3, 0.45, 0.6], "capsule.C": [1, 3]})");
+  ASSERT_EQ(
+      test::run_capflow({"/usr/bin/env", "mpirun", "--oversubscribe", "--allow-run-as-root", "-np",
+                         "2", "-x", "OMP_NUM_THREADS=1", CAPFLOW_EXE, "sweep", s.string()},
+                        d / "log", 300),
+      0)
+      << test::read_file(d / "log");
+  const std::vector<std::string> rows = test::lines_of(d / "out" / "sweep.csv");
+  ASSERT_EQ(rows.size(), 7u);
+  for (int i = 0; i < 6; ++i) {
+    EXPECT_NE(rows[i + 1].find(",done,0,t_end reached,"), std::string::npos) << rows[i + 1];
+    EXPECT_EQ(test::count_events(d / "out" / ("case_00" + std::to_string(i)), "end"), 1) << i;
+  }
   fs::remove_all(d);
 }
