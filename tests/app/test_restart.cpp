@@ -260,6 +260,46 @@ TEST(StartFrom, RunGoesOnFromAnotherRunsShapeOnAnotherMesh) {
   fs::remove_all(g);
 }
 
+TEST(StartFrom, ARunWithAnotherViscosityRatioGoesOnFromTheShape) {
+  // Run a (lambda = 1) deforms the sphere; b starts from it with lambda = 5 on the same mesh, c
+  // with lambda = 1. Both begin at a's shape; while Ca ramps up, the more viscous inside deforms
+  // more slowly; b keeps lambda = 5 in its checkpoint and resumes with it.
+  const fs::path a = test::fresh_dir("start_l1"), b = test::fresh_dir("start_l5"),
+                 c = test::fresh_dir("start_l1_on");
+  {
+    app::Simulation sim(options(a, 0.04), "");
+    ASSERT_EQ(sim.run().steps, 10);
+  }
+  const size_t last_a = test::lines_of(a / "timeseries.csv").size() - 2;
+  for (const auto& [dir, lambda] : {std::pair{b, 5.0}, std::pair{c, 1.0}}) {
+    control::ControlOptions o = options(dir, 0.08, lambda);
+    o.start.from = a.string();
+    app::Simulation sim(o, "");
+    const app::RunSummary s = sim.run();
+    EXPECT_EQ(s.steps, 10) << lambda;  // from t = 0.04 to 0.08
+    EXPECT_FALSE(s.failed) << lambda;
+    EXPECT_NEAR(csv_value(dir / "timeseries.csv", 0, "D"),
+                csv_value(a / "timeseries.csv", last_a, "D"), 1e-6)
+        << lambda;
+  }
+  const size_t last = test::lines_of(b / "timeseries.csv").size() - 2;
+  const double d_a = csv_value(a / "timeseries.csv", last_a, "D");
+  const double d_b = csv_value(b / "timeseries.csv", last, "D");
+  const double d_c = csv_value(c / "timeseries.csv", last, "D");
+  EXPECT_GT(d_b, d_a);
+  EXPECT_LT(d_b, d_c);
+  const output::Checkpoint ck =
+      output::Checkpoint::read(app::Simulation::latest_checkpoint(b.string()));
+  EXPECT_NE(ck.text("control").find("\"viscosity_ratio\": 5"), std::string::npos);
+  EXPECT_TRUE(ck.has("krylov_warm"));
+  app::ResumeOverrides ov;
+  ov.t_end = 0.088;
+  EXPECT_EQ(app::Simulation::resume(b.string(), ov)->run().steps, 12);
+  fs::remove_all(a);
+  fs::remove_all(b);
+  fs::remove_all(c);
+}
+
 TEST(StartFrom, MissingSourcesAreRefusedNamingTheField) {
   const fs::path d = test::fresh_dir("start_bad"), empty = test::fresh_dir("start_empty");
   auto message = [&](const std::string& from) {
