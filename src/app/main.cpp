@@ -1,6 +1,7 @@
 // capflow: spectral boundary element simulation of elastic capsules in Stokes flow.
 #include <algorithm>
 #include <iostream>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -34,6 +35,22 @@ int main(int argc, char** argv) {
   std::stable_sort(reg.begin(), reg.end(),
                    [](const auto& a, const auto& b) { return a.first < b.first; });
   for (auto& [order, setup] : reg) setup(app);
+  app.set_version_flag("--version", std::string("capflow ") + CAPFLOW_VERSION);
+  // A first argument that is neither an option nor a command: name it and the commands (CLI11
+  // would only say that a subcommand is required).
+  if (argc > 1 && argv[1][0] != '-') {
+    std::string names;
+    bool known = false;
+    for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
+      names += (names.empty() ? "" : ", ") + sub->get_name();
+      known = known || sub->get_name() == argv[1];
+    }
+    if (!known) {
+      std::cerr << "capflow: error: unknown command '" << argv[1] << "' (commands: " << names
+                << "; capflow --help)\n";
+      return exit_code::kUserError;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
