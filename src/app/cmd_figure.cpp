@@ -9,7 +9,8 @@
 // every figure, its sources and such notes.
 //
 // Kinds (--kinds, default all):
-//   timeseries  ts_D, ts_LSW, ts_edge_curvature, ts_tension     (paper figs. 5, 8, 9, 11, 13, 14)
+//   timeseries  ts_D, ts_LSW, ts_edge_curvature (straining flows), ts_tension (paper figs. 5, 8, 9,
+//               11, 13, 14), ts_ca (Ca(t)), ts_volume_drift, ts_inclination (simple shear)
 //   profiles    profiles_<run>_z / _y at --times, with the undisturbed unit circle
 //               (figs. 6ab, 7ab, 12ab); profiles_compare_z / _y: every run at the last --times
 //               value (default: its last profile), fig. 15
@@ -71,6 +72,7 @@ struct FigureCmd {
 
 struct Run {
   std::string dir, label, law;
+  bool shear = false;  // a simple-shear run (tank-treading: no +x tip; an inclination)
 };
 
 // ---- data blocks and figure scripts
@@ -342,6 +344,15 @@ std::vector<std::pair<Run, Table>> tables(Context& cx, const std::vector<Run>& r
   return out;
 }
 
+// The (run, table) pairs whose run passes keep.
+template <class Keep>
+std::vector<std::pair<Run, Table>> only(const std::vector<std::pair<Run, Table>>& data, Keep keep) {
+  std::vector<std::pair<Run, Table>> out;
+  for (const auto& d : data)
+    if (keep(d.first)) out.push_back(d);
+  return out;
+}
+
 void timeseries_figures(Context& cx, const std::vector<Run>& runs) {
   const auto data = tables(cx, runs, "timeseries.csv",
                            {"t", "D", "L", "S", "W", "edge_curvature", "tau_max", "tau_min"});
@@ -351,12 +362,31 @@ void timeseries_figures(Context& cx, const std::vector<Run>& runs) {
                    {column("D")}, false));
   emit(cx, overlay("ts_LSW", "Half-lengths L, S, W (inertia ellipsoid) vs t", "figs. 5, 11", "t",
                    "half-length", data, t, {column("L"), column("S"), column("W")}, false));
-  emit(cx,
-       overlay("ts_edge_curvature", "Edge curvature (z = 0 profile, +x tip) vs t", "figs. 8, 13",
-               "t", "edge curvature", data, t, {column("edge_curvature")}, false));
+  // the +x tip's curvature means nothing for a tank-treading (shear) capsule
+  const auto straining = only(data, [](const Run& r) { return !r.shear; });
+  if (!straining.empty())
+    emit(cx,
+         overlay("ts_edge_curvature", "Edge curvature (z = 0 profile, +x tip) vs t", "figs. 8, 13",
+                 "t", "edge curvature", straining, t, {column("edge_curvature")}, false));
   emit(cx, overlay("ts_tension", "Principal tensions tau_max and tau_min vs t", "figs. 9, 14", "t",
                    "tension / G_s", data, t,
                    {column("tau_max", "τ_max"), column("tau_min", "τ_min")}, false));
+  // Ca(t): what a steered run was driven with, beside its D(t)
+  emit(cx, overlay("ts_ca", "Capillary number Ca(t)", "steering", "t", "Ca", data, t,
+                   {column("ca", "Ca")}, false));
+  // the runs that have the column (older runs lack it: left out with a note)
+  const auto with = [&](const std::string& c) {
+    return only(tables(cx, runs, "timeseries.csv", {"t", c}), [](const Run&) { return true; });
+  };
+  const auto drift = with("volume_drift");
+  if (!drift.empty())
+    emit(cx, overlay("ts_volume_drift", "Volume drift V/V0 - 1 vs t", "accuracy", "t",
+                     "V / V_0 - 1", drift, t, {column("volume_drift", "V/V_0 - 1")}, false));
+  const auto sheared = only(with("inclination_deg"), [](const Run& r) { return r.shear; });
+  if (!sheared.empty())
+    emit(cx,
+         overlay("ts_inclination", "Inclination of the long axis vs t (simple shear)", "shear", "t",
+                 "inclination (degrees)", sheared, t, {column("inclination_deg", "θ")}, false));
 }
 
 void steady_figures(Context& cx, const std::vector<Run>& runs) {
@@ -698,8 +728,10 @@ int run(FigureCmd c) {
       r.label = fs::absolute(c.runs[i]).lexically_normal().parent_path().filename().string();
     if (!used.insert(r.label).second) r.label += "_" + std::to_string(i + 1);
     try {
-      r.law = membrane::to_string(
-          control::load_control_file((fs::path(r.dir) / "control.json").string()).options.law.kind);
+      const control::ControlOptions o =
+          control::load_control_file((fs::path(r.dir) / "control.json").string()).options;
+      r.law = membrane::to_string(o.law.kind);
+      r.shear = o.flow.type == capsule::FlowType::SimpleShear;
     } catch (const std::exception&) {
     }
     runs.push_back(r);

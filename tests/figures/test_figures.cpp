@@ -248,6 +248,34 @@ TEST(FigureData, LoadSurfaceNearestInTimeFromOwnVtp) {
   EXPECT_EQ(s.time, 0.0);
 }
 
+TEST(FigureCommand, ShearRunsGetTheInclinationAndNoTipCurvature) {
+  // A simple-shear run (its control.json says so) tank-treads: ts_inclination is drawn for it and
+  // the +x tip's curvature is not; a straining run beside it keeps ts_edge_curvature.
+  const fs::path d = fresh_dir("shear_kinds");
+  make_run(d / "shear", 0.3, false);
+  put(d / "shear" / "control.json", R"({"ca": 0.3, "flow": {"type": "simple-shear"}})");
+  const fs::path out = d / "out";
+  ASSERT_EQ(run_capflow(
+                (d / "shear").string() + " -o " + out.string() + " --kinds timeseries --no-gnuplot",
+                d / "log.txt"),
+            0)
+      << slurp(d / "log.txt");
+  EXPECT_TRUE(fs::exists(out / "ts_inclination.dat"));
+  EXPECT_FALSE(fs::exists(out / "ts_edge_curvature.dat"));
+  make_run(d / "planar", 0.3, false);
+  const fs::path out2 = d / "out2";
+  ASSERT_EQ(run_capflow((d / "shear").string() + " " + (d / "planar").string() + " -o " +
+                            out2.string() + " --kinds timeseries --no-gnuplot",
+                        d / "log2.txt"),
+            0)
+      << slurp(d / "log2.txt");
+  EXPECT_TRUE(fs::exists(out2 / "ts_inclination.dat"));
+  const std::string curv = slurp(out2 / "ts_edge_curvature.gp");
+  EXPECT_NE(curv.find("'planar'"), std::string::npos) << curv;
+  EXPECT_EQ(curv.find("'shear'"), std::string::npos) << curv;
+  fs::remove_all(d);
+}
+
 TEST(FigureCommand, EveryKindFromTwoRunsWithMatchingSidecars) {
   if (!gnuplot_available()) GTEST_SKIP() << "gnuplot not installed (apt-get install gnuplot-nox)";
   const fs::path d = fresh_dir("all");
@@ -262,6 +290,8 @@ TEST(FigureCommand, EveryKindFromTwoRunsWithMatchingSidecars) {
                                           "ts_LSW",
                                           "ts_edge_curvature",
                                           "ts_tension",
+                                          "ts_ca",
+                                          "ts_volume_drift",
                                           "profiles_skalak_z",
                                           "profiles_skalak_y",
                                           "profiles_neo_z",
