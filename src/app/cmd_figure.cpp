@@ -101,6 +101,13 @@ struct Figure {
 };
 
 // Shortest text that reads back as the same double.
+// A time for a legend or a message: 6 significant digits (2.9999999999998912 -> 3).
+std::string short_num(double v) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+
 std::string num(double v) {
   char buf[40];
   for (int p : {10, 15, 17}) {
@@ -447,7 +454,7 @@ Block unit_circle() {
 
 Block profile_block(const figures::Profile& p, char plane, const std::string& label) {
   Block b;
-  b.comment = label + "t = " + num(p.t) + ", plane " + plane + " = 0 (" + p.file +
+  b.comment = label + "t = " + short_num(p.t) + ", plane " + plane + " = 0 (" + p.file +
               "; first point repeated to close the curve)";
   b.columns = {"a", "b"};
   const auto& pts = plane == 'z' ? p.z : p.y;
@@ -502,15 +509,15 @@ void profile_figures(Context& cx, const std::vector<Run>& runs) {
       f.series.push_back({0, 1, 2, "undisturbed", "lines lw 1 lc rgb '#808080' dt 2"});
       for (size_t k = 0; k < ps.size(); ++k) {
         f.blocks.push_back(profile_block(ps[k], plane, ""));
-        f.series.push_back({static_cast<int>(k) + 1, 1, 2, "t = " + num(ps[k].t),
+        f.series.push_back({static_cast<int>(k) + 1, 1, 2, "t = " + short_num(ps[k].t),
                             "lines lw 2 lc " + std::to_string(k % 8 + 1)});
         f.sources.push_back(ps[k].file);
       }
       for (double t : cx.cmd.times) {
         const long i = figures::nearest(ts, t);
         if (std::abs(ts[static_cast<size_t>(i)] - t) > 1e-9 * (1 + std::abs(t)))
-          f.notes.push_back("requested t = " + num(t) +
-                            ": nearest available profile t = " + num(ts[static_cast<size_t>(i)]));
+          f.notes.push_back("requested t = " + short_num(t) + ": nearest available profile t = " +
+                            short_num(ts[static_cast<size_t>(i)]));
       }
       emit(cx, f);
     }
@@ -533,7 +540,7 @@ void profile_figures(Context& cx, const std::vector<Run>& runs) {
     for (size_t k = 0; k < last.size(); ++k) {
       f.blocks.push_back(profile_block(last[k].p, plane, "run " + last[k].run.label + ", "));
       f.series.push_back({static_cast<int>(k) + 1, 1, 2,
-                          last[k].run.label + " (t = " + num(last[k].p.t) + ")",
+                          last[k].run.label + " (t = " + short_num(last[k].p.t) + ")",
                           "lines lw 2 lc " + std::to_string(k % 8 + 1) + " dt " + kDash[k % 5]});
       f.sources.push_back(last[k].p.file);
     }
@@ -623,14 +630,14 @@ void view_figures(Context& cx, const std::vector<Run>& runs) {
           renderer->render(s, &img);
           output::write_png(png.string(), img.width, img.height, img.rgba.data());
           cx.manifest << "- **" << name << "**: 3-D view of run " << run.label
-                      << " at t = " << num(s.time) << ", coloured by " << field_label(o.field)
+                      << " at t = " << short_num(s.time) << ", coloured by " << field_label(o.field)
                       << " (colour bar), rendered from " << note.substr(note.find(' ') + 1)
                       << " (paper figs. 6c, 7c, 10). Files: " << name << ".png.\n";
           if (std::abs(s.time - t) > 1e-9 * (1 + std::abs(t)))
-            cx.note(name + ": requested t = " + num(t) +
-                    ", nearest saved surface t = " + num(s.time));
-          std::cerr << "figure: " << name << " (" << name << ".png, rendered at t = " << num(s.time)
-                    << ")\n";
+            cx.note(name + ": requested t = " + short_num(t) +
+                    ", nearest saved surface t = " + short_num(s.time));
+          std::cerr << "figure: " << name << " (" << name
+                    << ".png, rendered at t = " << short_num(s.time) << ")\n";
           cx.written.push_back(name);
           rendered = true;
         }
@@ -644,15 +651,15 @@ void view_figures(Context& cx, const std::vector<Run>& runs) {
       for (const auto& f : frames) ft.push_back(f.first);
       const auto& f = frames[static_cast<size_t>(figures::nearest(ft, t))];
       fs::copy_file(f.second, png, fs::copy_options::overwrite_existing);
-      const std::string msg = name + ": NOT rendered at t = " + num(t) + " (" + note +
-                              "): copied the nearest frame " + f.second + " (t = " + num(f.first) +
-                              ", " + how + ")";
+      const std::string msg = name + ": NOT rendered at t = " + short_num(t) + " (" + note +
+                              "): copied the nearest frame " + f.second +
+                              " (t = " + short_num(f.first) + ", " + how + ")";
       cx.note(msg);
       cx.manifest << "- **" << name << "**: 3-D view of run " << run.label
                   << " from the saved frame nearest in time (see the note above). Files: " << name
                   << ".png.\n";
-      std::cerr << "figure: " << name << " (" << name << ".png, from frame t = " << num(f.first)
-                << ")\n";
+      std::cerr << "figure: " << name << " (" << name
+                << ".png, from frame t = " << short_num(f.first) << ")\n";
       cx.written.push_back(name);
     }
   }
