@@ -136,7 +136,10 @@ Eigen::Matrix3Xd Capsule::velocity_impl(const Eigen::Matrix3Xd& x, double ca,
   const Eigen::Matrix3Xd f = traction(x);
   const std::vector<int>& targets = sym.targets();
   Eigen::Matrix3Xd sl(3, targets.size());
-  ops_->single_layer(x, f, targets, sl);
+  if (single_layer_)
+    single_layer_(x, f, targets, sl);
+  else
+    ops_->single_layer(x, f, targets, sl);
   const double c = 1.0 / (8.0 * kPi * ca);
   Eigen::Matrix3Xd ut(3, targets.size());
   for (size_t k = 0; k < targets.size(); ++k)

@@ -19,6 +19,7 @@
 #include <Eigen/Dense>
 #include <functional>
 #include <memory>
+#include <vector>
 
 #include "capsule/flow.h"
 #include "capsule/smoothing.h"
@@ -94,6 +95,14 @@ class Capsule {
   // the end of every later step rescales the shape to initial_volume().
   void set_volume_correction(bool on) { opt_.volume_correction = on; }
 
+  // Where velocity() takes the single layer at the targets from: this process's operators by
+  // default; the app installs the ranks of an MPI run (app/worker_team.h: the same per-target
+  // sums, spread over the ranks), which must give the same values.
+  using TargetSum = std::function<void(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& f,
+                                       const std::vector<int>& targets, Eigen::Matrix3Xd& out)>;
+  void set_single_layer(TargetSum sum) { single_layer_ = std::move(sum); }
+  const stokes::BoundaryOperators& operators() const { return *ops_; }
+
   // Traction jump at positions x, smoothed if options().smooth_traction.
   Eigen::Matrix3Xd traction(const Eigen::Matrix3Xd& x) const;
   // Membrane fields (stretches, tensions) at x, with the same tangents the dynamics uses.
@@ -152,6 +161,7 @@ class Capsule {
   double v0_ = 0;
   mutable long evaluations_ = 0;
   mutable long krylov_iterations_ = 0;
+  TargetSum single_layer_;  // empty: ops_
 };
 
 // Volume enclosed by the surface x (Gauss quadrature, nq = NB + 4).
