@@ -1,0 +1,31 @@
+// capflow/parallel/team: the processes of one capflow run. Under an MPI launcher with N > 1 ranks
+// (mpirun -np N, srun) and a build with MPI (CAPFLOW_MPI), start() initialises MPI and every call
+// below is a collective over MPI_COMM_WORLD, made from the main thread only (MPI_THREAD_FUNNELED).
+// Otherwise this is a team of one: rank 0, size 1, the collectives do nothing.
+// A failed MPI call aborts every rank (MPI's default error handler).
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace capflow::parallel {
+
+void start(int* argc, char*** argv);
+void finish();  // MPI_Finalize if start() initialised MPI
+int rank();
+int size();
+bool built_with_mpi();
+
+// From rank 0 to every rank (the others' values are replaced).
+void broadcast(int* v);
+void broadcast(std::string* s);
+void broadcast(std::vector<double>* v);
+void broadcast(std::vector<int>* v);
+
+// Every rank's block to rank 0, concatenated in rank order (the others get an empty vector).
+std::vector<double> gather(const std::vector<double>& mine);
+
+// Ends every rank with `code` after printing why (from any rank).
+[[noreturn]] void abort_all(const std::string& why, int code);
+
+}  // namespace capflow::parallel
