@@ -7,6 +7,8 @@
 
 #include "app/commands.h"
 #include "app/heap_policy.h"
+#include "app/worker_team.h"
+#include "parallel/team.h"
 
 namespace capflow::app {
 namespace {
@@ -29,6 +31,24 @@ void set_exit_code(int code) {
 int main(int argc, char** argv) {
   using namespace capflow::app;
   keep_freed_heap();
+  // Under an MPI launcher the ranks > 0 serve rank 0's velocity evaluations (app/worker_team.h);
+  // rank 0 runs the command and ends their service on every way out of main.
+  // Only run and steady use the ranks this way; a sweep under a launcher deals out its cases
+  // (app/sweep.h) and every other command runs on each rank as one process.
+  const bool team_command =
+      argc > 1 && (std::string(argv[1]) == "run" || std::string(argv[1]) == "steady");
+  if (team_command) capflow::parallel::start(&argc, &argv);
+  if (capflow::parallel::rank() > 0) {
+    const int code = serve_team();
+    capflow::parallel::finish();
+    return code;
+  }
+  struct EndTeam {
+    ~EndTeam() {
+      end_workers();
+      capflow::parallel::finish();
+    }
+  } end_team;
   CLI::App app{"capflow - elastic capsules in Stokes flow by the spectral boundary element method"};
   app.require_subcommand(1);
   auto& reg = registry();

@@ -23,6 +23,7 @@
 #include "app/run_directory.h"
 #include "app/run_log.h"
 #include "app/time_stepper.h"
+#include "app/worker_team.h"
 #include "capsule/capsule.h"
 #include "capsule/health.h"
 #include "control/control_file.h"
@@ -148,6 +149,7 @@ struct Simulation::Impl {
     mesh = control::make_mesh(opt.mesh);
     cap = std::make_unique<capsule::Capsule>(*mesh, opt.law, opt.flow,
                                              control::dynamics_options(opt));
+    attach_team(*cap, opt);  // the ranks of an MPI run share its velocity evaluations
   }
 
   // h_next: the adaptive integrator's first step (from a checkpoint; 0 = estimate).

@@ -19,6 +19,7 @@
 #include "app/run_log.h"
 #include "app/steady_control.h"
 #include "app/time_stepper.h"
+#include "app/worker_team.h"
 #include "capsule/capsule.h"
 #include "capsule/continuation.h"
 #include "capsule/health.h"
@@ -100,6 +101,7 @@ Grid make_grid(const control::ControlOptions& o) {
   Grid g;
   g.mesh = control::make_mesh(o.mesh);
   g.cap = std::make_unique<capsule::Capsule>(*g.mesh, o.law, o.flow, control::dynamics_options(o));
+  attach_team(*g.cap, o);  // the ranks of an MPI run share its velocity evaluations
   g.x = g.cap->positions();
   return g;
 }

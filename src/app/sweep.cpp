@@ -120,8 +120,8 @@ std::string self_exe() {
 }
 
 // Starts `capflow args...` with stdout and stderr appended to log, in its own process group (a
-// terminal's signals reach the sweep only, which passes them on), with OMP_NUM_THREADS = threads
-// when threads > 0. Returns the child's pid.
+// terminal's signals reach the sweep only, which passes them on), without the MPI launcher's
+// environment, with OMP_NUM_THREADS = threads when threads > 0. Returns the child's pid.
 pid_t start_child(const std::vector<std::string>& args, const fs::path& log, int threads) {
   posix_spawn_file_actions_t fa;
   posix_spawn_file_actions_init(&fa);
@@ -143,8 +143,16 @@ pid_t start_child(const std::vector<std::string>& args, const fs::path& log, int
   argv.push_back(nullptr);
   // the environment, with OMP_NUM_THREADS replaced when the sweep divides the cores
   std::vector<std::string> env_text;
+  // and without the MPI launcher's variables: a case is one process (under them `capflow run`
+  // would join the launcher's job as one of its ranks)
+  const auto launcher = [](const char* e) {
+    for (const char* p : {"OMPI_", "PMIX_", "PMI_", "MPI_LOCALNRANKS", "MPI_LOCALRANKID"})
+      if (std::strncmp(e, p, std::strlen(p)) == 0) return true;
+    return false;
+  };
   for (char** e = environ; *e; ++e)
-    if (threads <= 0 || std::strncmp(*e, "OMP_NUM_THREADS=", 16) != 0) env_text.emplace_back(*e);
+    if (!launcher(*e) && (threads <= 0 || std::strncmp(*e, "OMP_NUM_THREADS=", 16) != 0))
+      env_text.emplace_back(*e);
   if (threads > 0) env_text.push_back("OMP_NUM_THREADS=" + std::to_string(threads));
   std::vector<char*> envp;
   for (std::string& e : env_text) envp.push_back(e.data());

@@ -1,0 +1,152 @@
+// capflow under mpirun (app/worker_team.h): 1, 2 and 3 ranks give the same run and the same steady
+// states (every column but the wall time); a live edit and a stop on rank 0 reach the run and end
+// every rank; a run checkpointed with 2 ranks resumes with 3 and ends as the 1-rank run does.
+// Needs a build with MPI (CAPFLOW_MPI) and mpirun (scripts/setup installs both).
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "parallel/team.h"
+#include "process_util.h"
+#include "test_util.h"
+
+namespace fs = std::filesystem;
+using namespace capflow;
+
+namespace {
+
+bool have_mpirun() {
+  return parallel::built_with_mpi() && std::system("command -v mpirun > /dev/null 2>&1") == 0;
+}
+
+std::vector<std::string> mpirun(int np, const std::vector<std::string>& args) {
+  std::vector<std::string> v = {"/usr/bin/env",
+                                "mpirun",
+                                "--oversubscribe",
+                                "--allow-run-as-root",
+                                "--mca",
+                                "mpi_yield_when_idle",
+                                "1",
+                                "-np",
+                                std::to_string(np),
+                                "-x",
+                                "OMP_NUM_THREADS=1",
+                                CAPFLOW_EXE};
+  v.insert(v.end(), args.begin(), args.end());
+  return v;
+}
+
+// The lines of a CSV without the column `drop` (the wall time).
+std::vector<std::string> without(const fs::path& csv, const std::string& drop) {
+  std::vector<std::string> lines = test::lines_of(csv);
+  if (lines.empty()) return lines;
+  std::vector<std::string> head;
+  {
+    std::stringstream h(lines[0]);
+    for (std::string c; std::getline(h, c, ',');) head.push_back(c);
+  }
+  size_t k = 0;
+  while (k < head.size() && head[k] != drop) ++k;
+  for (std::string& l : lines) {
+    std::vector<std::string> f;
+    std::stringstream row(l);
+    for (std::string c; std::getline(row, c, ',');) f.push_back(c);
+    std::string out;
+    for (size_t i = 0; i < f.size(); ++i)
+      if (i != k) out += f[i] + ",";
+    l = out;
+  }
+  return lines;
+}
+
+const char* kRun = R"({"capsule": {"law": "skalak", "C": 1}, "mesh": {"elements": 6, "nb": 6},
+  "flow": {"type": "planar-extension"}, "ca": 0.45, "time": {"t_end": T},
+  "output": {"png": false, "mp4": false, "csv_every": 0.01, "checkpoint_every": 0.05}})";
+
+std::string run_control(const std::string& t_end) {
+  std::string s = kRun;
+  s.replace(s.find("T}"), 1, t_end);
+  return s;
+}
+
+}  // namespace
+
+TEST(Mpi, OneTwoAndThreeRanksGiveTheSameRunAndSteadyStates) {
+  if (!have_mpirun()) GTEST_SKIP() << "no MPI build or no mpirun (scripts/setup installs them)";
+  const fs::path d = test::fresh_dir("mpi_same");
+  test::write_file(d / "run.json", run_control("0.2"));
+  test::write_file(d / "steady.json",
+                   R"({"capsule": {"law": "skalak", "C": 1}, "mesh": {"elements": 6, "nb": 6,
+    "division": "diagonal"}, "ca": [{"ca": 0.3}, {"steps": {"to": 0.4, "by": 0.1}}],
+    "output": {"mp4": false}})");
+  for (int np : {1, 2, 3}) {
+    const std::string n = std::to_string(np);
+    ASSERT_EQ(test::run_capflow(
+                  mpirun(np, {"run", (d / "run.json").string(), "-o", (d / ("run" + n)).string()}),
+                  d / ("log_run" + n), 300),
+              0)
+        << test::read_file(d / ("log_run" + n));
+    ASSERT_EQ(test::run_capflow(mpirun(np, {"steady", (d / "steady.json").string(), "-o",
+                                            (d / ("steady" + n)).string()}),
+                                d / ("log_steady" + n), 300),
+              0)
+        << test::read_file(d / ("log_steady" + n));
+  }
+  const auto run1 = without(d / "run1" / "timeseries.csv", "wall_s");
+  const auto steady1 = without(d / "steady1" / "steady.csv", "wall_s");
+  EXPECT_GT(run1.size(), 20u);
+  EXPECT_EQ(steady1.size(), 3u);
+  for (const char* n : {"2", "3"}) {
+    EXPECT_EQ(without(d / (std::string("run") + n) / "timeseries.csv", "wall_s"), run1) << n;
+    EXPECT_EQ(without(d / (std::string("steady") + n) / "steady.csv", "wall_s"), steady1) << n;
+  }
+  fs::remove_all(d);
+}
+
+TEST(Mpi, AnEditAndAStopOnRankZeroReachTheRunAndEndEveryRank) {
+  if (!have_mpirun()) GTEST_SKIP() << "no MPI build or no mpirun (scripts/setup installs them)";
+  const fs::path d = test::fresh_dir("mpi_stop");
+  const fs::path ctl = d / "run.json", run = d / "run";
+  test::write_file(ctl, run_control("1000"));
+  const pid_t pid = test::spawn(mpirun(2, {"run", ctl.string(), "-o", run.string()}), d / "log");
+  ASSERT_TRUE(test::wait_for([&] { return test::csv_rows(run / "timeseries.csv") >= 5; }, 120))
+      << test::read_file(d / "log");
+  std::string edited = run_control("1000");
+  edited.replace(edited.find("\"ca\": 0.45"), 10, "\"ca\": 0.5");
+  test::write_file(ctl, edited);
+  ASSERT_TRUE(test::wait_for([&] { return test::count_events(run, "edit") >= 1; }, 60))
+      << test::read_file(d / "log");
+  edited.replace(edited.find("\"output\""), 8, "\"run\": {\"state\": \"stopped\"}, \"output\"");
+  test::write_file(ctl, edited);
+  EXPECT_EQ(test::wait_exit(pid, 120), 0) << test::read_file(d / "log");
+  const std::string events = test::read_file(run / "events.jsonl");
+  EXPECT_NE(events.find("\"reason\":\"run.state is \\\"stopped\\\"\""), std::string::npos)
+      << events;
+  EXPECT_NE(events.find("\"accepted\":true"), std::string::npos) << events;
+  fs::remove_all(d);
+}
+
+TEST(Mpi, ACheckpointOfTwoRanksResumesWithThree) {
+  if (!have_mpirun()) GTEST_SKIP() << "no MPI build or no mpirun (scripts/setup installs them)";
+  const fs::path d = test::fresh_dir("mpi_resume");
+  test::write_file(d / "short.json", run_control("0.1"));
+  test::write_file(d / "long.json", run_control("0.2"));
+  ASSERT_EQ(test::run_capflow(
+                mpirun(1, {"run", (d / "long.json").string(), "-o", (d / "whole").string()}),
+                d / "log1", 300),
+            0);
+  ASSERT_EQ(test::run_capflow(
+                mpirun(2, {"run", (d / "short.json").string(), "-o", (d / "split").string()}),
+                d / "log2", 300),
+            0);
+  ASSERT_EQ(
+      test::run_capflow(mpirun(3, {"run", "--resume", (d / "split").string(), "--t-end", "0.2"}),
+                        d / "log3", 300),
+      0)
+      << test::read_file(d / "log3");
+  EXPECT_EQ(without(d / "split" / "timeseries.csv", "wall_s"),
+            without(d / "whole" / "timeseries.csv", "wall_s"));
+  fs::remove_all(d);
+}
