@@ -65,31 +65,28 @@ void broadcast(int* v) {
 #endif
 }
 
+namespace {
+// The size of a container from rank 0, then its elements (the same machine type on every rank).
+template <class C>
+void broadcast_sized(C* c) {
+  int n = static_cast<int>(c->size());
+  broadcast(&n);
+  c->resize(static_cast<size_t>(n));
+#ifdef CAPFLOW_HAVE_MPI
+  if (g_started && n > 0)
+    MPI_Bcast(c->data(), n * static_cast<int>(sizeof((*c)[0])), MPI_BYTE, 0, MPI_COMM_WORLD);
+#endif
+}
+}  // namespace
+
 void broadcast(std::string* s) {
-  int n = static_cast<int>(s->size());
-  broadcast(&n);
-  s->resize(static_cast<size_t>(n));
-#ifdef CAPFLOW_HAVE_MPI
-  if (g_started && n > 0) MPI_Bcast(s->data(), n, MPI_CHAR, 0, MPI_COMM_WORLD);
-#endif
+  broadcast_sized(s);
 }
-
 void broadcast(std::vector<double>* v) {
-  int n = static_cast<int>(v->size());
-  broadcast(&n);
-  v->resize(static_cast<size_t>(n));
-#ifdef CAPFLOW_HAVE_MPI
-  if (g_started && n > 0) MPI_Bcast(v->data(), n, MPI_DOUBLE, 0, MPI_COMM_WORLD);
-#endif
+  broadcast_sized(v);
 }
-
 void broadcast(std::vector<int>* v) {
-  int n = static_cast<int>(v->size());
-  broadcast(&n);
-  v->resize(static_cast<size_t>(n));
-#ifdef CAPFLOW_HAVE_MPI
-  if (g_started && n > 0) MPI_Bcast(v->data(), n, MPI_INT, 0, MPI_COMM_WORLD);
-#endif
+  broadcast_sized(v);
 }
 
 std::vector<double> gather(const std::vector<double>& mine) {
