@@ -58,23 +58,6 @@ void BM_DoubleLayer(benchmark::State& st) {
 }
 
 // Targets in the octant x, y, z >= 0 only (one per coincidence class).
-void BM_SingleLayerOctant(benchmark::State& st) {
-  Setup s(static_cast<int>(st.range(0)), static_cast<int>(st.range(1)));
-  omp_set_num_threads(static_cast<int>(st.range(2)));
-  std::vector<int> t;
-  for (const auto& c : s.mesh.classes()) {
-    const Vector3d p = s.mesh.reference().col(c.front());
-    if (p.minCoeff() >= -1e-12) t.push_back(c.front());
-  }
-  Matrix3Xd out;
-  stokes::OperatorStats stats;
-  for (auto _ : st) {
-    s.op.single_layer(s.x, s.f, t, out, &stats);
-    benchmark::DoNotOptimize(out.data());
-  }
-  report(st, stats);
-}
-
 std::vector<int> octant_targets(const geometry::Mesh& mesh) {
   std::vector<int> t;
   for (const auto& c : mesh.classes()) {
@@ -82,6 +65,19 @@ std::vector<int> octant_targets(const geometry::Mesh& mesh) {
     if (p.minCoeff() >= -1e-12) t.push_back(c.front());
   }
   return t;
+}
+
+void BM_SingleLayerOctant(benchmark::State& st) {
+  Setup s(static_cast<int>(st.range(0)), static_cast<int>(st.range(1)));
+  omp_set_num_threads(static_cast<int>(st.range(2)));
+  const std::vector<int> t = octant_targets(s.mesh);
+  Matrix3Xd out;
+  stokes::OperatorStats stats;
+  for (auto _ : st) {
+    s.op.single_layer(s.x, s.f, t, out, &stats);
+    benchmark::DoNotOptimize(out.data());
+  }
+  report(st, stats);
 }
 
 // The double layer at the octant targets: one application (density form) against its assembly
