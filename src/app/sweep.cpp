@@ -208,7 +208,19 @@ class FileLock {
   int fd_;
 };
 
-void write_summary(const control::SweepPlan& plan) {
+// The cases' states: done and failed are final and kept; the others are read again from their
+// run directories (events.jsonl) at each summary, since other ranks may have moved them on.
+struct KnownStates {
+  std::vector<CaseState> states;
+  const CaseState& refresh(size_t i, const fs::path& run) {
+    if (states.size() <= i) states.resize(i + 1);
+    CaseState& s = states[i];
+    if (s.status != Status::Done && s.status != Status::Failed) s = state_of(run);
+    return s;
+  }
+};
+
+void write_summary(const control::SweepPlan& plan, KnownStates* known) {
   const FileLock lock(fs::path(plan.dir) / "sweep.csv.lock");
   std::ostringstream out;
   out << "case";
@@ -216,7 +228,7 @@ void write_summary(const control::SweepPlan& plan) {
   out << ",status,exit_code,reason,t,D,L,S,W,steps,dir\n";
   for (const control::SweepCase& c : plan.cases) {
     const fs::path run = fs::path(plan.dir) / c.name;
-    const CaseState s = state_of(run);
+    const CaseState& s = known->refresh(static_cast<size_t>(c.index), run);
     out << c.index;
     for (const auto& [k, v] : c.values) out << "," << csv_field(v);
     out << "," << to_string(s.status);
@@ -292,8 +304,9 @@ int run_sweep(const SweepArgs& a) {
               << " with sbatch, then run capflow sweep " << a.file << " --summary\n";
     return exit_code::kOk;
   }
+  KnownStates known;
   if (a.summary) {
-    write_summary(plan);
+    write_summary(plan, &known);
     return exit_code::kOk;
   }
   const std::atomic<bool>* stop = install_stop_signals();
@@ -340,7 +353,7 @@ int run_sweep(const SweepArgs& a) {
     std::cout << std::flush;
     failed += code == exit_code::kSimulationFailed;
     output_failed += code == exit_code::kOutputFailed;
-    if (a.only_case < 0) write_summary(plan);
+    if (a.only_case < 0) write_summary(plan, &known);
   };
   // Waits until a slot is free (max_running children at most), passing a stop signal on once.
   const auto wait_until = [&](size_t max_running) {
@@ -379,7 +392,7 @@ int run_sweep(const SweepArgs& a) {
                        &c, std::chrono::steady_clock::now()});
   }
   wait_until(0);
-  if (a.only_case < 0) write_summary(plan);
+  if (a.only_case < 0) write_summary(plan, &known);
   if (stop->load())
     std::cout << "sweep: stopped by a signal; run capflow sweep " << a.file
               << " again to continue\n";
