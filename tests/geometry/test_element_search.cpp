@@ -81,7 +81,9 @@ TEST(ElementSearch, NearestFarthestAndHighestPointsOfAPatch) {
       const ElementMinimum m = minimise_on_element(ev, psi, 2, st.first, st.second);
       EXPECT_NEAR(m.value, psi.value(patch(m.s, m.t)), 1e-13);
       EXPECT_GE(m.value, sampled - 1e-5);
-      if (psi.a > 0.0) EXPECT_LE(m.value, sampled + 1e-13);
+      if (psi.a > 0.0) {
+        EXPECT_LE(m.value, sampled + 1e-13);
+      }
       expect_optimal(m, psi);
       best = std::min(best, m.value);
     }

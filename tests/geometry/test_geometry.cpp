@@ -83,9 +83,9 @@ TEST(Geometry, CoincidenceClassesHaveTheRightValences) {
       const auto& cls = mesh.classes();
       for (size_t a = 0; a < cls.size(); ++a)
         for (size_t b = a + 1; b < cls.size(); ++b)
-          min_sep = std::min(min_sep,
-                             (mesh.reference().col(cls[a][0]) - mesh.reference().col(cls[b][0]))
-                                 .squaredNorm());
+          min_sep = std::min(
+              min_sep,
+              (mesh.reference().col(cls[a][0]) - mesh.reference().col(cls[b][0])).squaredNorm());
       EXPECT_GT(std::sqrt(min_sep), 1e-4);
       const int split_points = (ne == 6) ? 0 : (ne == 10 ? 4 : 8);
       EXPECT_EQ(count[1], ne * (nb - 2) * (nb - 2)) << ne << " " << nb;
@@ -202,8 +202,8 @@ TEST(Geometry, EllipsoidMeanCurvatureMatchesClosedForm) {
     const SurfaceGeometry g = compute_geometry(mesh, x);
     double err = 0;
     for (int m = 0; m < mesh.num_local(); ++m)
-      err = std::max(err, std::abs(g.mean_curvature[m] -
-                                   ellipsoid_mean_curvature(1.8, 0.7, 1.0, x.col(m))));
+      err = std::max(
+          err, std::abs(g.mean_curvature[m] - ellipsoid_mean_curvature(1.8, 0.7, 1.0, x.col(m))));
     EXPECT_LT(err, 1e-5) << ne;
   }
 }
@@ -280,7 +280,8 @@ TEST(Geometry, ResampleAcrossDivisionsConvergesSpectrally) {
   std::vector<double> err;
   for (int nb : {6, 9, 12, 15}) {
     const Mesh source(6, nb);
-    err.push_back((resample_surface(source, deformed_nodes(source), target) - exact).cwiseAbs().maxCoeff());
+    err.push_back(
+        (resample_surface(source, deformed_nodes(source), target) - exact).cwiseAbs().maxCoeff());
     std::printf("NE=6 NB=%d -> NE=14 NB=12: max error %.2e\n", nb, err.back());
   }
   for (size_t k = 1; k < err.size(); ++k) EXPECT_LT(err[k], 0.1 * err[k - 1]);
@@ -293,7 +294,9 @@ TEST(Geometry, BoxDivisionTilesTheSphereWithUnitSquareFaces) {
   // on the unit sphere, coincidences, mirrors and locate as on the cube; the element edges lie
   // where the box's unit-square face regions meet.
   for (int ne : {6, 10, 14}) {
-    const Vector3d box = ne == 10 ? Vector3d(2, 1, 1) : ne == 14 ? Vector3d(1, 3, 1) : Vector3d(1, 1, 1);
+    const Vector3d box = ne == 10   ? Vector3d(2, 1, 1)
+                         : ne == 14 ? Vector3d(1, 3, 1)
+                                    : Vector3d(1, 1, 1);
     for (int nb : {5, 8}) {
       const Mesh mesh(ne, nb, ElementMap::Equiangular, Division::Box);
       const Mesh cube(ne, nb);
@@ -345,7 +348,8 @@ TEST(Geometry, BoxDivisionTilesTheSphereWithUnitSquareFaces) {
       const SurfaceGeometry g = compute_geometry(b, b.reference());
       err[k] = (g.mean_curvature.array() - 1.0).abs().maxCoeff();
     }
-    std::printf("box NE=%d: max |H - 1| at NB=8, 12, 16: %.2e %.2e %.2e\n", ne, err[0], err[1], err[2]);
+    std::printf("box NE=%d: max |H - 1| at NB=8, 12, 16: %.2e %.2e %.2e\n", ne, err[0], err[1],
+                err[2]);
     EXPECT_LT(err[1], err[0] / 10) << ne;
     EXPECT_LT(err[2], err[1] / 10) << ne;
   }
@@ -397,7 +401,9 @@ TEST(Geometry, DiagonalDivisionIsTheCubeTurnedAboutZ) {
   for (int k = 0; k < q.x.cols(); ++k) vol += q.x.col(k).dot(q.n.col(k)) * q.w[k] / 3;
   EXPECT_NEAR(q.w.sum() / (4 * kPi), 1.0, 1e-10);
   EXPECT_NEAR(vol / (4 * kPi / 3), 1.0, 1e-10);
+  // the same error (9.4e-6) to the rounding of the turned nodes through two differentiations
+  // at NB=14 (~1e-12, more with FMA contraction)
   const SurfaceGeometry g = compute_geometry(d14, d14.reference());
   EXPECT_NEAR((g.mean_curvature.array() - 1.0).abs().maxCoeff(),
-              max_mean_curvature_error_sphere(6, 14, ElementMap::Equiangular), 1e-12);
+              max_mean_curvature_error_sphere(6, 14, ElementMap::Equiangular), 1e-10);
 }
