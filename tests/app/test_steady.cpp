@@ -142,8 +142,12 @@ TEST(Steady, AContinuationFollowsTheBranchToTheEndOfItsRange) {
   EXPECT_EQ(ca.back(), 0.5);  // the last state lands on the end of the range
   for (size_t k = 0; k < ca.size(); ++k) {
     EXPECT_LE(residual[k], 1e-7) << k;
-    if (k) EXPECT_GT(ca[k], ca[k - 1]);
-    if (k) EXPECT_LE(ca[k] - ca[k - 1], 0.1 + 1e-12);
+    if (k) {
+      EXPECT_GT(ca[k], ca[k - 1]);
+    }
+    if (k) {
+      EXPECT_LE(ca[k] - ca[k - 1], 0.1 + 1e-12);
+    }
   }
   EXPECT_EQ(std::distance(fs::directory_iterator(dc / "checkpoints"), fs::directory_iterator{}),
             s.states);

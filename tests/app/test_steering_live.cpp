@@ -62,7 +62,9 @@ TEST(SteeringRegression, SteadyRowsCarryTheHeldCaAndTheTime) {
                             tca = column(d / "timeseries.csv", "ca");
   for (size_t k = 0; k < t.size(); ++k)
     for (size_t i = 0; i < ts.size(); ++i)
-      if (std::abs(ts[i] - t[k]) < 1e-9) EXPECT_NEAR(tca[i], ca[k], 1e-12) << "t = " << t[k];
+      if (std::abs(ts[i] - t[k]) < 1e-9) {
+        EXPECT_NEAR(tca[i], ca[k], 1e-12) << "t = " << t[k];
+      }
   int steady_events = 0;
   for (const auto& e : test::events(d))
     if (e["event"] == "steady") {

@@ -91,7 +91,9 @@ TEST(Sweep, AStoppedSweepResumesItsInterruptedCase) {
   EXPECT_EQ(test::count_events(c0, "end"), 2);
   EXPECT_EQ(test::count_events(c0, "resume"), 1);
   for (const std::string& row : test::lines_of(d / "out" / "sweep.csv"))
-    if (row[0] != 'c') EXPECT_NE(row.find(",done,0,t_end reached,6,"), std::string::npos) << row;
+    if (row[0] != 'c') {
+      EXPECT_NE(row.find(",done,0,t_end reached,6,"), std::string::npos) << row;
+    }
   fs::remove_all(d);
 }
 

@@ -94,7 +94,9 @@ TEST(TimeSteps, FixedStepsAreTheRk4StepsOfBefore) {
   const app::RunSummary s = sim.run();
   EXPECT_EQ(s.steps, 25);
   for (double v : test::csv_column(d / "timeseries.csv", "dt"))
-    if (v != 0) EXPECT_EQ(v, 0.004);
+    if (v != 0) {
+      EXPECT_EQ(v, 0.004);
+    }
   fs::remove_all(d);
 }
 

@@ -21,7 +21,8 @@ namespace {
 const Eigen::Vector3d kLambda(2000.0, 50.0, 1.0);
 
 void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd* dydt) {
-  *dydt = (-kLambda.array() * (y.array() - std::sin(t)) + std::cos(t)).matrix();
+  dydt->resize(y.size());
+  for (int i = 0; i < y.size(); ++i) (*dydt)[i] = -kLambda[i] * (y[i] - std::sin(t)) + std::cos(t);
 }
 
 // |R(z)| of the Cash-Karp 5th-order solution for real z.
