@@ -55,7 +55,8 @@ int main(int argc, char** argv) {
   std::stable_sort(reg.begin(), reg.end(),
                    [](const auto& a, const auto& b) { return a.first < b.first; });
   for (auto& [order, setup] : reg) setup(app);
-  app.set_version_flag("--version", std::string("capflow ") + CAPFLOW_VERSION);
+  app.set_version_flag("--version", std::string("capflow ") + CAPFLOW_VERSION + "\nbuilt with " +
+                                        CAPFLOW_ARCH_FLAGS);
   // A first argument that is neither an option nor a command: name it and the commands (CLI11
   // would only say that a subcommand is required).
   if (argc > 1 && argv[1][0] != '-') {
