@@ -45,24 +45,42 @@ void far_data(const geometry::Mesh& mesh, const Matrix3Xd& x, const Matrix3Xd* d
       dq[k].noalias() = IX * I.transpose();
     }
   }
+  // The points in the order of F.d's columns (q = a + nq b, as the nq x nq matrices above):
+  // contiguous arrays, one vectorised loop per column b of the Gauss grid
+  const int q0 = e * nqe;
+  double* __restrict out[10];
+  for (int r = 0; r < 10; ++r) out[r] = F.d.row(r).data() + q0;
   double ls = 0, lt = 0;
-  for (int b = 0; b < nq; ++b)
+  for (int b = 0; b < nq; ++b) {
+    const int o = b * nq;
+    const double* __restrict sx = xsq[0].data() + o;
+    const double* __restrict sy = xsq[1].data() + o;
+    const double* __restrict sz = xsq[2].data() + o;
+    const double* __restrict tx = xtq[0].data() + o;
+    const double* __restrict ty = xtq[1].data() + o;
+    const double* __restrict tz = xtq[2].data() + o;
+    const double wb = gw[b];
+#pragma omp simd reduction(+ : ls, lt)
     for (int a = 0; a < nq; ++a) {
-      const int q = e * nqe + b * nq + a;
-      const Vector3d xs(xsq[0](a, b), xsq[1](a, b), xsq[2](a, b));
-      const Vector3d xt(xtq[0](a, b), xtq[1](a, b), xtq[2](a, b));
-      const Vector3d c = xs.cross(xt);
-      const double w = gw[a] * gw[b];
-      const double wj = w * c.norm();
-      ls += w * xs.norm();
-      lt += w * xt.norm();
-      for (int k = 0; k < 3; ++k) {
-        F.d(k, q) = xq[k](a, b);
-        F.d(6 + k, q) = w * c[k];
-        F.d(3 + k, q) = uses_density(M) ? dq[k](a, b) : 0.0;
-      }
-      F.d(9, q) = wj;
+      const double w = gw[a] * wb;
+      const double cx = sy[a] * tz[a] - sz[a] * ty[a];
+      const double cy = sz[a] * tx[a] - sx[a] * tz[a];
+      const double cz = sx[a] * ty[a] - sy[a] * tx[a];
+      ls += w * std::sqrt(sx[a] * sx[a] + sy[a] * sy[a] + sz[a] * sz[a]);
+      lt += w * std::sqrt(tx[a] * tx[a] + ty[a] * ty[a] + tz[a] * tz[a]);
+      out[6][o + a] = w * cx;
+      out[7][o + a] = w * cy;
+      out[8][o + a] = w * cz;
+      out[9][o + a] = w * std::sqrt(cx * cx + cy * cy + cz * cz);
     }
+  }
+  for (int k = 0; k < 3; ++k) {
+    std::copy_n(xq[k].data(), nqe, out[k]);
+    if (uses_density(M))
+      std::copy_n(dq[k].data(), nqe, out[3 + k]);
+    else
+      std::fill_n(out[3 + k], nqe, 0.0);
+  }
   // mean length of the longer family of coordinate lines (= 2 * mean |x_xi| or |x_eta|)
   if (esize) *esize = 0.5 * std::max(ls, lt);
 }
