@@ -171,10 +171,11 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
     far[tier].d.resize(10, ne * far[tier].nq * far[tier].nq);
   }
   const int team = team_size();  // this call's threads (stokes/thread_cap.h)
-  // one task per (tier, element): the far data is ~5 % of a call, serial it left a core idle
+  // one task per (tier, element): the far data is ~5 % of a call, serial it left a core idle;
+  // the inner tiers (the most points by default) first, so that cheap tasks end the loop
 #pragma omp parallel for schedule(dynamic, 1) num_threads(team)
   for (int task = 0; task < ntiers * ne; ++task) {
-    const int tier = task / ne, e = task % ne;
+    const int tier = ntiers - 1 - task / ne, e = task % ne;
     const FarBasis& fb = far_basis_[tier];
     far_data<M>(mesh, x, dens, fb.w, fb.I, fb.Id, e, far[tier], tier == 0 ? &esize[e] : nullptr);
     // the Chebyshev element data once per element, with the tier every mode computes
@@ -336,7 +337,7 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
                              opt_.near_out_panels};
           polar_rule(np.s, np.t, hu, near_edge_, near_radial_, sc.near, ro);
           // the single layer evaluates the near rule's point bases line by line
-          fill_bases(mesh, sc.near);
+          fill_bases(mesh, prod_w_, sc.near);
           if (cheb)
             load_chebyshev(nb, K, ce[e], 0, sc);
           else

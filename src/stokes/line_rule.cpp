@@ -38,11 +38,6 @@ void radial_nodes(double h, const spectral::Rule& gr, const RadialOpt& ro,
   }
 }
 
-// Lagrange basis l_j(t) and l_j'(t) through the element's Gauss-Lobatto nodes.
-inline void basis(const geometry::Mesh& mesh, double t, double* l, double* dl) {
-  spectral::lagrange_basis(mesh.nodes(), mesh.bary(), t, l, dl);
-}
-
 }  // namespace
 
 void polar_rule(double s0, double t0, const double* hu, const spectral::Rule& ge,
@@ -110,13 +105,25 @@ void polar_rule(double s0, double t0, const double* hu, const spectral::Rule& ge
   }
 }
 
-void fill_bases(const geometry::Mesh& mesh, LineRule& R) {
+void fill_bases(const geometry::Mesh& mesh, const VectorXd& prod_w, LineRule& R) {
   const int nb = mesh.nb(), nl = R.nl();
   if (R.Lc.rows() != nb || R.Lc.cols() < nl) {
     R.Lc.resize(nb, nl);
     R.dLc.resize(nb, nl);
   }
-  for (int l = 0; l < nl; ++l) basis(mesh, R.c[l], R.Lc.col(l).data(), R.dLc.col(l).data());
+  // all lines at once (vectorised over the lines, spectral::lagrange_bases), then transposed to
+  // one column per line as stage 1 reads them
+  thread_local Eigen::MatrixXd L, dL;
+  if (L.rows() < nl || L.cols() != nb) {
+    L.resize(std::max<Eigen::Index>(nl, L.rows()), nb);
+    dL.resize(L.rows(), nb);
+  }
+  spectral::lagrange_bases(mesh.nodes(), prod_w, R.c.data(), nl, L.data(), dL.data(), L.rows());
+  for (int l = 0; l < nl; ++l)
+    for (int j = 0; j < nb; ++j) {
+      R.Lc(j, l) = L(l, j);
+      R.dLc(j, l) = dL(l, j);
+    }
 }
 
 }  // namespace capflow::stokes

@@ -64,9 +64,9 @@ struct RadialOpt {
 void polar_rule(double s0, double t0, const double* hu, const spectral::Rule& ge,
                 const spectral::Rule& gr, LineRule& R, const RadialOpt& ro = RadialOpt());
 
-// The across bases of a line rule: Lc, dLc at the line coordinates. The
-// matrices are resized only when they are too small or of another nb (scratch reused across calls
-// and operators).
-void fill_bases(const geometry::Mesh& mesh, LineRule& R);
+// The across bases of a line rule: Lc, dLc at the line coordinates (prod_w:
+// spectral::product_weights of the element nodes). The matrices are resized only when they are
+// too small or of another nb (scratch reused across calls and operators).
+void fill_bases(const geometry::Mesh& mesh, const Eigen::VectorXd& prod_w, LineRule& R);
 
 }  // namespace capflow::stokes

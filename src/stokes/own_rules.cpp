@@ -47,7 +47,7 @@ OwnRules::OwnRules(const geometry::Mesh& mesh, const QuadratureOptions& opt,
     const RadialOpt ro{graded ? &gl(opt.n_radial_inner) : nullptr, &gl(n_r),
                        graded ? opt.own_split : 0.0, 1};
     polar_rule(xi[ic], xi[jc], hu_own, gl(n_e), gl(n_r), r, ro);
-    fill_bases(mesh, r);
+    fill_bases(mesh, prod_w, r);
     return r;
   };
 
