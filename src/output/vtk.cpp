@@ -13,6 +13,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <type_traits>
+#include <unordered_map>
 
 namespace capflow::output {
 namespace fs = std::filesystem;
@@ -108,10 +109,12 @@ void write_atomic(const std::string& path, const std::string& text) {
 template <class T>
 void append_array(std::string* out, const std::vector<T>& v, const char* type,
                   const std::string& name, int components, VtkEncoding enc,
-                  const std::string& indent) {
+                  const std::string& indent, bool field_data = false) {
   std::string& o = *out;
   o += indent + "<DataArray type=\"" + type + "\"";
   if (!name.empty()) o += " Name=\"" + name + "\"";
+  // VTK's reader sizes a FieldData array by its NumberOfTuples (0 when absent)
+  if (field_data) o += " NumberOfTuples=\"" + std::to_string(v.size() / components) + "\"";
   o += " NumberOfComponents=\"" + std::to_string(components) + "\" format=\"";
   o += enc == VtkEncoding::Ascii ? "ascii\">\n" : "binary\">\n";
   if (enc == VtkEncoding::Ascii) {
@@ -267,6 +270,92 @@ std::vector<double> decode_array(const Tag& t, const std::string& body, bool hea
   return v;
 }
 
+// FieldData array of the element grids' welded point indices (write_vtp, read_vtp).
+constexpr const char* kGridArray = "capflow_grid_point";
+
+// Welding: the element grids' points that coincide (element edges and corners, equal to
+// rounding) become one point. grid[k] is the welded index of grid point k; returns the number
+// of welded points. Positions are hashed on a lattice of spacing tol (1e-9 of the bounding box
+// diagonal) and compared with the 27 neighbouring cells, so a pair straddling a cell boundary
+// is still found.
+long weld(const std::vector<double>& x, std::vector<int64_t>* grid) {
+  const long np = static_cast<long>(x.size() / 3);
+  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
+  for (long k = 0; k < np; ++k)
+    for (int d = 0; d < 3; ++d) {
+      lo[d] = std::min(lo[d], x[3 * k + d]);
+      hi[d] = std::max(hi[d], x[3 * k + d]);
+    }
+  double diag = 0;
+  for (int d = 0; d < 3; ++d) diag += (hi[d] - lo[d]) * (hi[d] - lo[d]);
+  const double tol = std::max(1e-9 * std::sqrt(diag), 1e-300);
+  struct Key {
+    int64_t a, b, c;
+    bool operator==(const Key& o) const { return a == o.a && b == o.b && c == o.c; }
+  };
+  struct Hash {
+    size_t operator()(const Key& k) const {
+      return static_cast<size_t>(k.a * 73856093 ^ k.b * 19349663 ^ k.c * 83492791);
+    }
+  };
+  std::unordered_map<Key, std::vector<int64_t>, Hash> cells;  // cell -> welded points in it
+  std::vector<long> first;                                    // welded point -> a grid point
+  grid->assign(static_cast<size_t>(np), -1);
+  for (long k = 0; k < np; ++k) {
+    const double* p = &x[3 * k];
+    const Key key{static_cast<int64_t>(std::floor((p[0] - lo[0]) / tol)),
+                  static_cast<int64_t>(std::floor((p[1] - lo[1]) / tol)),
+                  static_cast<int64_t>(std::floor((p[2] - lo[2]) / tol))};
+    int64_t found = -1;
+    for (int da = -1; da <= 1 && found < 0; ++da)
+      for (int db = -1; db <= 1 && found < 0; ++db)
+        for (int dc = -1; dc <= 1 && found < 0; ++dc) {
+          const auto it = cells.find({key.a + da, key.b + db, key.c + dc});
+          if (it == cells.end()) continue;
+          for (int64_t w : it->second) {
+            const double* q = &x[3 * first[static_cast<size_t>(w)]];
+            if (std::abs(p[0] - q[0]) <= tol && std::abs(p[1] - q[1]) <= tol &&
+                std::abs(p[2] - q[2]) <= tol) {
+              found = w;
+              break;
+            }
+          }
+        }
+    if (found < 0) {
+      found = static_cast<int64_t>(first.size());
+      first.push_back(k);
+      cells[key].push_back(found);
+    }
+    (*grid)[static_cast<size_t>(k)] = found;
+  }
+  return static_cast<long>(first.size());
+}
+
+// The mean over the grid points of each welded point of a tuple-major array; unit: 3-tuples
+// (normals) whose mean over several copies is made unit length again. A point with one copy
+// keeps its value bit for bit.
+std::vector<double> welded_mean(const std::vector<double>& v, int comps,
+                                const std::vector<int64_t>& grid, long nw, bool unit = false) {
+  std::vector<double> out(static_cast<size_t>(nw) * comps, 0.0);
+  std::vector<int> count(static_cast<size_t>(nw), 0);
+  for (size_t k = 0; k < grid.size(); ++k) {
+    const size_t w = static_cast<size_t>(grid[k]);
+    ++count[w];
+    for (int c = 0; c < comps; ++c) out[w * comps + c] += v[k * comps + c];
+  }
+  for (size_t w = 0; w < count.size(); ++w) {
+    if (count[w] == 1) continue;
+    double* p = &out[w * comps];
+    for (int c = 0; c < comps; ++c) p[c] /= count[w];
+    if (unit && comps == 3) {
+      const double r = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+      if (r > 0)
+        for (int c = 0; c < 3; ++c) p[c] /= r;
+    }
+  }
+  return out;
+}
+
 long attr_long(const Tag& t, const char* key, long dflt) {
   auto it = t.attr.find(key);
   return it == t.attr.end() ? dflt : std::atol(it->second.c_str());
@@ -305,10 +394,12 @@ void write_vtp(const std::string& path, const VtkSurface& s, VtkEncoding enc) {
   if (enc == VtkEncoding::Base64 && !little_endian_host())
     throw std::runtime_error("vtk: binary encoding needs a little-endian host (" + path + ")");
   const int n = s.n;
-  const long np = s.num_points(), nc = s.num_cells();
+  const long nc = s.num_cells();
+  std::vector<int64_t> grid;
+  const long nw = weld(s.x, &grid);
 
   std::string o;
-  o.reserve(static_cast<size_t>(np) * 200);
+  o.reserve(static_cast<size_t>(nw) * 200);
   o += "<?xml version=\"1.0\"?>\n";
   o += "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" "
        "header_type=\"UInt64\">\n";
@@ -321,8 +412,10 @@ void write_vtp(const std::string& path, const VtkSurface& s, VtkEncoding enc) {
   field("ne", s.ne);
   field("n", s.n);
   for (const auto& [name, v] : s.field_scalars) field(name, v);
+  // the element grids' points as indices of the welded points: read_vtp restores the layout
+  append_array(&o, grid, "Int64", kGridArray, 1, enc, "      ", true);
   o += "    </FieldData>\n";
-  o += "    <Piece NumberOfPoints=\"" + std::to_string(np) +
+  o += "    <Piece NumberOfPoints=\"" + std::to_string(nw) +
        "\" NumberOfVerts=\"0\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"" +
        std::to_string(nc) + "\">\n";
   o += "      <PointData";
@@ -338,10 +431,18 @@ void write_vtp(const std::string& path, const VtkSurface& s, VtkEncoding enc) {
       it != s.point_arrays.end() && it->second.components == 3)
     o += " Normals=\"Normals\"";
   o += ">\n";
-  for (const auto& [name, a] : s.point_arrays)
-    append_array(&o, a.values, "Float64", name, a.components, enc, "        ");
-  o += "      </PointData>\n      <Points>\n";
-  append_array(&o, s.x, "Float64", "Points", 3, enc, "        ");
+  for (const auto& [name, a] : s.point_arrays) {
+    append_array(&o, welded_mean(a.values, a.components, grid, nw, name == "Normals"), "Float64",
+                 name, a.components, enc, "        ");
+  }
+  o += "      </PointData>\n      <CellData>\n";
+  std::vector<int32_t> element;
+  element.reserve(static_cast<size_t>(nc));
+  for (int e = 0; e < s.ne; ++e)
+    element.insert(element.end(), static_cast<size_t>(n - 1) * (n - 1), e);
+  append_array(&o, element, "Int32", "element", 1, enc, "        ");
+  o += "      </CellData>\n      <Points>\n";
+  append_array(&o, welded_mean(s.x, 3, grid, nw), "Float64", "Points", 3, enc, "        ");
   o += "      </Points>\n      <Polys>\n";
   std::vector<int64_t> conn, offs;
   conn.reserve(4 * static_cast<size_t>(nc));
@@ -349,8 +450,8 @@ void write_vtp(const std::string& path, const VtkSurface& s, VtkEncoding enc) {
   for (int e = 0; e < s.ne; ++e)
     for (int j = 0; j + 1 < n; ++j)
       for (int i = 0; i + 1 < n; ++i) {
-        const int64_t k = (static_cast<int64_t>(e) * n + j) * n + i;
-        conn.insert(conn.end(), {k, k + 1, k + n + 1, k + n});
+        const size_t k = (static_cast<size_t>(e) * n + j) * n + i;
+        conn.insert(conn.end(), {grid[k], grid[k + 1], grid[k + n + 1], grid[k + n]});
         offs.push_back(static_cast<int64_t>(conn.size()));
       }
   append_array(&o, conn, "Int64", "connectivity", 1, enc, "        ");
@@ -372,7 +473,7 @@ VtkSurface read_vtp(const std::string& path) {
   double ne = -1, n = -1;
   bool have_time = false;
   std::string section;  // innermost of FieldData, PointData, CellData, Points, Polys, ...
-  std::vector<double> offsets;
+  std::vector<double> offsets, grid;
   size_t pos = 0;
   while ((pos = s.find('<', pos)) != std::string::npos) {
     const Tag t = parse_tag(s, pos, path);
@@ -420,7 +521,11 @@ VtkSurface read_vtp(const std::string& path) {
       const std::string name = t.attr.count("Name") ? t.attr.at("Name") : "";
       const int comps = static_cast<int>(attr_long(t, "NumberOfComponents", 1));
       if (section == "FieldData") {
-        if (v.size() != 1) continue;  // capflow writes one-tuple scalars only
+        if (name == kGridArray) {
+          grid = std::move(v);
+          continue;
+        }
+        if (v.size() != 1) continue;  // capflow writes one-tuple scalars and the grid only
         if (name == "TimeValue") {
           out.time = v[0];
           have_time = true;
@@ -458,9 +563,33 @@ VtkSurface read_vtp(const std::string& path) {
   (void)have_time;
   out.ne = static_cast<int>(ne);
   out.n = static_cast<int>(n);
-  if (npoints != out.num_points() || static_cast<long>(out.x.size()) != 3 * out.num_points())
+  if (static_cast<long>(out.x.size()) != 3 * npoints)
+    throw std::runtime_error("vtk: " + path + ": Points do not hold NumberOfPoints " +
+                             std::to_string(npoints) + " points");
+  if (!grid.empty()) {
+    // welded points (write_vtp): back to the element grids through the stored indices
+    if (static_cast<long>(grid.size()) != out.num_points())
+      throw std::runtime_error("vtk: " + path + ": " + kGridArray + " holds " +
+                               std::to_string(grid.size()) +
+                               " indices, not ne*n*n = " + std::to_string(out.num_points()));
+    for (double g : grid)
+      if (!(g >= 0 && g < npoints && g == std::floor(g)))
+        throw std::runtime_error("vtk: " + path + ": " + kGridArray + " has an index outside [0, " +
+                                 std::to_string(npoints) + ")");
+    const auto expand = [&](std::vector<double>& v, int comps) {
+      if (static_cast<long>(v.size()) != comps * npoints) return;  // IsValid names it below
+      std::vector<double> e(grid.size() * comps);
+      for (size_t k = 0; k < grid.size(); ++k)
+        for (int c = 0; c < comps; ++c)
+          e[k * comps + c] = v[static_cast<size_t>(grid[k]) * comps + c];
+      v = std::move(e);
+    };
+    expand(out.x, 3);
+    for (auto& [name, a] : out.point_arrays) expand(a.values, a.components);
+  } else if (npoints != out.num_points()) {
     throw std::runtime_error("vtk: " + path + ": NumberOfPoints " + std::to_string(npoints) +
                              " does not match ne*n*n = " + std::to_string(out.num_points()));
+  }
   if (npolys != out.num_cells() || static_cast<long>(offsets.size()) != npolys)
     throw std::runtime_error("vtk: " + path + ": expected " + std::to_string(out.num_cells()) +
                              " quads");

@@ -2,17 +2,20 @@
 // the caller hands over plain arrays.
 //
 // One call of write_vtp() writes one VTK XML PolyData file (".vtp", format version 1.0):
-//   Points   : the element node grids, ne*n*n points, point k = (e*n + j)*n + i
-//              (i along xi, j along eta; the layout of render::Snapshot and of the
-//              render::Upsampler grid, so an upsampled n x n grid per element works as well).
-//              Points on element edges appear once per element that holds them (the file keeps
-//              the solver's element-local layout, so it reads back exactly; use ParaView's
-//              "Clean" filter to merge them).
-//   Polys    : ne*(n-1)^2 quads (k(i,j), k(i+1,j), k(i+1,j+1), k(i,j+1)), i.e. ordered like the
-//              (xi, eta) parametrisation (counter-clockwise seen from outside for the outward
-//              element maps).
+//   Points   : the element grids' points (VtkSurface::x, ne*n*n, point k = (e*n + j)*n + i, i
+//              along xi, j along eta: the layout of render::Snapshot), welded: points that
+//              coincide to 1e-9 of the bounding box diagonal (element edges and corners) are
+//              written once, at the mean of their copies, so ParaView shades across the seams.
+//              FieldData "capflow_grid_point" (Int64, ne*n*n) holds each grid point's welded
+//              index: read_vtp restores the element grids (a welded point's values on every
+//              copy: the mean, exact where the copies agreed).
+//   Polys    : ne*(n-1)^2 quads (k(i,j), k(i+1,j), k(i+1,j+1), k(i,j+1)) through the welded
+//              indices, ordered like the (xi, eta) parametrisation (counter-clockwise seen from
+//              outside for the outward element maps). CellData "element" (Int32): each quad's
+//              element (a point on an edge belongs to several elements, a quad to one).
 //   PointData: every entry of point_arrays, Float64 with NumberOfComponents = components,
-//              values tuple-major (value c of point k at [k*components + c]).
+//              values tuple-major (value c of point k at [k*components + c]), the mean over a
+//              welded point's copies ("Normals": made unit length again).
 //              Conventional names (capflow's own writer uses them; load_surface reads them):
 //              "tau1", "tau2" (principal tensions, 1 component), "dir1", "dir2" (principal
 //              directions, 3), "Normals" (3), "velocity" (3).

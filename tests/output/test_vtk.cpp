@@ -118,12 +118,6 @@ std::map<std::string, std::string> run_python(const fs::path& dir, const std::st
   return kv;
 }
 
-double sum_of(const std::vector<double>& v) {
-  double s = 0;
-  for (double x : v) s += x;
-  return s;
-}
-
 }  // namespace
 
 TEST(Base64, KnownVectorsAndRoundTrip) {
@@ -143,9 +137,23 @@ TEST(Base64, KnownVectorsAndRoundTrip) {
   EXPECT_THROW(base64_decode("TW*u"), std::runtime_error);
 }
 
-TEST(Vtk, OwnReaderRoundTripsBothEncodingsExactly) {
+// Copies of each grid point (the points within 1e-12 of it, itself included), by brute force.
+std::vector<int> multiplicity(const VtkSurface& s) {
+  const long np = s.num_points();
+  std::vector<int> m(static_cast<size_t>(np), 0);
+  for (long a = 0; a < np; ++a)
+    for (long b = 0; b < np; ++b) {
+      double d = 0;
+      for (int c = 0; c < 3; ++c) d = std::max(d, std::abs(s.x[3 * a + c] - s.x[3 * b + c]));
+      if (d < 1e-12) ++m[static_cast<size_t>(a)];
+    }
+  return m;
+}
+
+TEST(Vtk, OwnReaderRoundTripsBothEncodings) {
   const fs::path d = fresh_dir("roundtrip");
   const VtkSurface s = sphere(7, 1.0 / 3.0);
+  const std::vector<int> copies = multiplicity(s);
   for (VtkEncoding enc : {VtkEncoding::Ascii, VtkEncoding::Base64}) {
     const fs::path p = d / (enc == VtkEncoding::Ascii ? "a.vtp" : "b.vtp");
     capflow::output::write_vtp(p.string(), s, enc);
@@ -154,14 +162,49 @@ TEST(Vtk, OwnReaderRoundTripsBothEncodingsExactly) {
     EXPECT_EQ(r.ne, 6);
     EXPECT_EQ(r.n, 7);
     EXPECT_EQ(r.time, s.time);  // bit for bit (%.17g or raw bytes)
-    EXPECT_EQ(r.x, s.x);
+    // Bit for bit at the points of one element; at the welded edge points (copies equal to
+    // rounding here) the mean of the copies
+    const auto expect_back = [&](const std::vector<double>& got, const std::vector<double>& want,
+                                 int comps, const std::string& name) {
+      ASSERT_EQ(got.size(), want.size()) << name;
+      for (size_t k = 0; k < copies.size(); ++k)
+        for (int c = 0; c < comps; ++c) {
+          const size_t i = k * comps + c;
+          if (copies[k] == 1)
+            EXPECT_EQ(got[i], want[i]) << name << " point " << k;
+          else
+            EXPECT_NEAR(got[i], want[i], 1e-15) << name << " point " << k;
+        }
+    };
+    expect_back(r.x, s.x, 3, "x");
     ASSERT_EQ(r.point_arrays.size(), s.point_arrays.size());
     for (const auto& [name, a] : s.point_arrays) {
       ASSERT_TRUE(r.point_arrays.count(name)) << name;
       EXPECT_EQ(r.point_arrays.at(name).components, a.components) << name;
-      EXPECT_EQ(r.point_arrays.at(name).values, a.values) << name;
+      expect_back(r.point_arrays.at(name).values, a.values, a.components, name);
     }
     EXPECT_EQ(r.field_scalars, s.field_scalars);
+  }
+}
+
+TEST(Vtk, ElementEdgesAreWrittenOnce) {
+  // n x n points on each of the 6 faces: 6 (n-2)^2 interior, 12 (n-2) on edges, 8 corners
+  const fs::path d = fresh_dir("weld");
+  for (int n : {2, 3, 7, 12}) {
+    const VtkSurface s = sphere(n, 0);
+    capflow::output::write_vtp((d / "w.vtp").string(), s, VtkEncoding::Ascii);
+    std::ifstream f(d / "w.vtp");
+    std::stringstream all;
+    all << f.rdbuf();
+    const std::string text = all.str();
+    const long unique = 6L * (n - 2) * (n - 2) + 12L * (n - 2) + 8;
+    EXPECT_NE(text.find("NumberOfPoints=\"" + std::to_string(unique) + "\""), std::string::npos)
+        << "n " << n;
+    // the same count from the copies found by brute force: sum over grid points of 1/copies
+    double sum = 0;
+    for (int c : multiplicity(s)) sum += 1.0 / c;
+    EXPECT_NEAR(sum, static_cast<double>(unique), 1e-9) << "n " << n;
+    EXPECT_EQ(capflow::output::read_vtp((d / "w.vtp").string()).num_points(), s.num_points());
   }
 }
 
@@ -193,6 +236,7 @@ TEST(Vtk, VtkXmlReaderReadsCountsArraysTimeAndGeometry) {
   const fs::path d = fresh_dir("vtkreader");
   const int n = 13;
   const VtkSurface s = sphere(n, 2.5);
+  const std::vector<int> copies = multiplicity(s);
   capflow::output::write_vtp((d / "ascii.vtp").string(), s, VtkEncoding::Ascii);
   capflow::output::write_vtp((d / "binary.vtp").string(), s, VtkEncoding::Base64);
   for (const char* file : {"ascii.vtp", "binary.vtp"}) {
@@ -222,6 +266,8 @@ for i in range(ptd.GetNumberOfArrays()):
         for c in range(a.GetNumberOfComponents()):
             s += a.GetComponent(t, c)
     print('array_' + a.GetName(), a.GetNumberOfComponents(), a.GetNumberOfTuples(), repr(s))
+el = pd.GetCellData().GetArray('element')
+print('element', el.GetNumberOfTuples() if el else 0, repr(el.GetRange()[0]) if el else '-', repr(el.GetRange()[1]) if el else '-')
 print('active_scalars', ptd.GetScalars().GetName() if ptd.GetScalars() else 'none')
 print('active_normals', ptd.GetNormals().GetName() if ptd.GetNormals() else 'none')
 fd = pd.GetFieldData()
@@ -246,7 +292,8 @@ print('min_outward_cos', repr(worst))
 )";
     const auto kv = run_python(d, script);
     ASSERT_FALSE(kv.empty());
-    EXPECT_EQ(kv.at("points"), std::to_string(6 * n * n));
+    const long unique = 6L * (n - 2) * (n - 2) + 12L * (n - 2) + 8;  // the edges welded
+    EXPECT_EQ(kv.at("points"), std::to_string(unique));
     EXPECT_EQ(kv.at("cells"), std::to_string(6 * (n - 1) * (n - 1)));
     EXPECT_EQ(kv.at("polys"), std::to_string(6 * (n - 1) * (n - 1)));
     EXPECT_EQ(kv.at("cellsizes"), "4");
@@ -258,9 +305,16 @@ print('min_outward_cos', repr(worst))
       double sum = 0;
       in >> comps >> tuples >> sum;
       EXPECT_EQ(comps, a.components) << name;
-      EXPECT_EQ(tuples, s.num_points()) << name;
-      EXPECT_NEAR(sum, sum_of(a.values), 1e-9 * (1 + std::abs(sum_of(a.values)))) << name;
+      EXPECT_EQ(tuples, unique) << name;
+      // each welded point once: the grid points' values weighted by 1 / their copies
+      double want = 0;
+      for (long k = 0; k < s.num_points(); ++k)
+        for (int c = 0; c < a.components; ++c)
+          want +=
+              a.values[static_cast<size_t>(k * a.components + c)] / copies[static_cast<size_t>(k)];
+      EXPECT_NEAR(sum, want, 1e-9 * (1 + std::abs(want))) << name;
     }
+    EXPECT_EQ(kv.at("element"), std::to_string(6 * (n - 1) * (n - 1)) + " 0.0 5.0");
     EXPECT_EQ(kv.at("active_scalars"), "tau1");
     EXPECT_EQ(kv.at("active_normals"), "Normals");
     EXPECT_EQ(std::stod(kv.at("field_TimeValue")), 2.5);
@@ -398,7 +452,7 @@ for i, ds in enumerate(sets):
     long np = 0;
     in >> step >> tv >> np;
     EXPECT_EQ(step, expect[i]);
-    EXPECT_EQ(tv, expect[i]);  // the file's own TimeValue matches its collection entry
-    EXPECT_EQ(np, 6 * 16);
+    EXPECT_EQ(tv, expect[i]);           // the file's own TimeValue matches its collection entry
+    EXPECT_EQ(np, 6 * 4 + 12 * 2 + 8);  // 6 faces of 4 x 4 points, the edges welded
   }
 }
