@@ -8,9 +8,10 @@
 //   frames/frame_NNNNNN.png            rendered frames; frame NNNNNN shares its index with
 //                                      profile NNNNNN (both written at the same frame time)
 //
-// Surface files (written with output::write_vtp, node grid, i.e. n = NB):
+// Surface files (written with output::write_vtp: n = output.vtk_points Gauss-Lobatto points per
+// element edge, app/surface_export.h; NB in runs before it):
 //   FieldData: TimeValue, ne, n, and optionally ca, D, L, S, W, tau_max, tau_min
-//   PointData: tau1, tau2 (principal tensions), optionally dir1, dir2, Normals, velocity
+//   PointData: tau1, tau2 (principal tensions), optionally Normals, mean_curvature, velocity
 // vtk_from_snapshot() builds exactly that from a render::Snapshot (what the run loop already
 // has at each frame), snapshot_from_vtk() is its inverse, and load_surface() finds the saved
 // surface nearest in time.

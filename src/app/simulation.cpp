@@ -22,6 +22,7 @@
 #include "app/run_checkpoint.h"
 #include "app/run_directory.h"
 #include "app/run_log.h"
+#include "app/surface_export.h"
 #include "app/time_stepper.h"
 #include "app/worker_team.h"
 #include "capsule/capsule.h"
@@ -277,7 +278,8 @@ struct Simulation::Impl {
       throw OutputError("frames could not be written: " + renderer->error());
   }
 
-  // ParaView surface (node grid, tensions) + the .pvd collection entry.
+  // The ParaView surface (app/surface_export.h: output.vtk_points per element edge, tensions,
+  // mean curvature, the velocity of this state) + the .pvd collection entry.
   void write_vtk(const Measures& m, double ca) {
     dir->subdirectory("vtk");
     const std::string name = figures::surface_file_name(vtk_index);
@@ -285,10 +287,22 @@ struct Simulation::Impl {
       if (!pvd)
         pvd = std::make_unique<output::PvdCollection>(
             dir->file(figures::kSurfaceCollection).string());
-      output::write_vtp(dir->file(name).string(), figures::vtk_from_snapshot(snapshot(m, ca)));
+      output::write_vtp(dir->file(name).string(), surface(m, ca));
       pvd->add(cap->time(), name);
     });
     ++vtk_index;
+  }
+
+  output::VtkSurface surface(const Measures& m, double ca) const {
+    // one more velocity evaluation; the Krylov warm start (lambda != 1) is put back, so the run
+    // goes on as it would without ParaView output
+    const Eigen::VectorXd warm = cap->krylov_warm_start();
+    const Eigen::Matrix3Xd u = cap->velocity(cap->positions(), ca);
+    cap->set_krylov_warm_start(warm);
+    const render::Snapshot sn = snapshot(m, ca);
+    const Eigen::Matrix3Xd& x = cap->positions();
+    const int n = opt.output.vtk_points > 0 ? opt.output.vtk_points : mesh->nb();
+    return surface_export(*mesh, {&x, &u, &sn}, n);
   }
 
   RunCheckpoint checkpoint_state() const {

@@ -101,6 +101,9 @@ void check_combinations(const json& doc, ControlOptions& o, std::vector<ControlI
   if (o.render.height % 2)
     errors->push_back({"render.height", "value " + std::to_string(o.render.height) +
                                             " is odd: movies need even sizes"});
+  if (o.output.vtk_points == 1)
+    errors->push_back({"output.vtk_points",
+                       "value 1 is not valid: 0 (the nodes) or 2 to 64 points per element edge"});
   const std::vector<ControlIssue> t = time_issues(o.time, 0.0);
   errors->insert(errors->end(), t.begin(), t.end());
 }

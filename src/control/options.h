@@ -135,6 +135,8 @@ struct OutputOptions {
   double checkpoint_every = 0.0;     // "output.checkpoint_every": 0 = only at the end
   double vtk_every = 0.0;  // "output.vtk_every": ParaView surface_NNNNNN.vtp + surface.pvd
                            // cadence (simulated time), 0 = none
+  int vtk_points = 25;     // "output.vtk_points": ParaView surface points per element edge (the
+                        // interpolant at n Gauss-Lobatto points, app/surface_export.h); 0 = nodes
 };
 
 struct NumericsOptions {

@@ -632,6 +632,11 @@ std::vector<Field> build_fields() {
   t.push_back(number(
       "output.vtk_every", [](O& o) -> double& { return o.output.vtk_every; }, closed(0, 1e6),
       "the ParaView output cadence (0: none)", "1/G", kLive, "ParaView surface cadence (0: none)"));
+  t.push_back(integer(
+      "output.vtk_points", [](O& o) -> int& { return o.output.vtk_points; }, 0, 64,
+      "the ParaView surface's points per element edge (0: the nodes, else 2 to 64)", "", kFrozen,
+      "ParaView surface points per element edge: the interpolant at n Gauss-Lobatto points "
+      "(0: the nodes)"));
   // render
   t.push_back(integer(
       "render.width", [](O& o) -> int& { return o.render.width; }, 16, 7680,
