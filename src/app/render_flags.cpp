@@ -26,7 +26,7 @@ void apply_render_flags(const RenderFlags& f, render::RenderOptions* o) {
     throw UserError("--backend: unknown '" + f.backend + "'");
   if (!f.range.empty()) {
     if (f.range.size() != 2) throw UserError("--range needs MIN,MAX");
-    o->auto_range = false;
+    o->range_mode = render::RangeMode::Fixed;
     o->range_min = f.range[0];
     o->range_max = f.range[1];
   }

@@ -664,27 +664,34 @@ std::vector<Field> build_fields() {
       [](O& o, int i) { o.render.colormap = static_cast<render::ColorMap>(i); },
       {"viridis", "coolwarm"}, kFrozen, "colour map (coolwarm: symmetric range)"));
   t.push_back(custom(
-      {"render.range", "\"auto\" or [min, max]", "\"auto\" | [min, max] with min < max", "\"auto\"",
-       "Gs", kFrozen, "colour range"},
+      {"render.range", "\"auto\", \"frame\" or [min, max]",
+       "\"auto\" | \"frame\" | [min, max] with min < max", "\"auto\"", "Gs", kFrozen,
+       "colour range: \"auto\" holds every value drawn so far and only grows (one colour, one "
+       "tension over a movie), \"frame\" each frame's own, [min, max] fixed (beyond it marked "
+       "on the bar)"},
       [](const json& v, ReadContext& c) {
         render::RenderOptions& ro = c.options.render;
         if (v.is_string() && v.get<std::string>() == "auto") {
-          ro.auto_range = true;
+          ro.range_mode = render::RangeMode::Grow;
+        } else if (v.is_string() && v.get<std::string>() == "frame") {
+          ro.range_mode = render::RangeMode::Frame;
         } else if (v.is_array() && v.size() == 2 && v[0].is_number() && v[1].is_number() &&
                    v[0].get<double>() < v[1].get<double>()) {
-          ro.auto_range = false;
+          ro.range_mode = render::RangeMode::Fixed;
           ro.range_min = v[0].get<double>();
           ro.range_max = v[1].get<double>();
         } else {
           add_error(c, "render.range",
                     "value " + show(v) +
-                        " is not valid: range must be \"auto\" or "
+                        " is not valid: range must be \"auto\", \"frame\" or "
                         "[min, max] with min < max");
         }
       },
       [](const O& o) -> std::optional<json> {
         const render::RenderOptions& ro = o.render;
-        return ro.auto_range ? json("auto") : json::array({ro.range_min, ro.range_max});
+        if (ro.range_mode == render::RangeMode::Fixed)
+          return json::array({ro.range_min, ro.range_max});
+        return json(ro.range_mode == render::RangeMode::Frame ? "frame" : "auto");
       }));
   t.push_back(boolean(
       "render.element_lines", [](O& o) -> bool& { return o.render.element_lines; }, kFrozen,

@@ -6,6 +6,7 @@
 #include <array>
 #include <string>
 
+#include "render/color_range.h"
 #include "render/context.h"
 
 namespace capflow::render {
@@ -43,8 +44,10 @@ struct RenderOptions {
   CameraOptions camera;
   ColorField field = ColorField::MaxTension;
   ColorMap colormap = ColorMap::Viridis;
-  bool auto_range = true;               // range from the data: [min, max]; symmetric for CoolWarm
-  double range_min = 0, range_max = 1;  // used when auto_range is false
+  // colour range (render/color_range.h): Grow (only grows over a movie), Frame (each frame's
+  // own), Fixed ([range_min, range_max]); symmetric for CoolWarm
+  RangeMode range_mode = RangeMode::Grow;
+  double range_min = 0, range_max = 1;                    // used when range_mode is Fixed
   std::array<float, 3> plain_color{0.85f, 0.62f, 0.45f};  // sRGB, for ColorField::Plain
   std::array<float, 3> background{1.0f, 1.0f, 1.0f};      // sRGB
   bool element_lines = true;                              // draw element edges as thin lines
@@ -74,7 +77,7 @@ struct RenderOptions {
 
 const char* view_name(View v);
 const char* field_name(ColorField f);   // "max-tension", ...
-const char* field_label(ColorField f);  // legend title, e.g. "max principal tension tau1"
+const char* field_label(ColorField f);  // legend title (UTF-8), e.g. "τ₁ / Gₛ"
 const char* colormap_name(ColorMap m);
 const char* antialias_name(Antialias a);                     // "auto", "msaa", "lines", "off"
 bool parse_view(const std::string& s, View* out);            // oblique|xy|xz|yz

@@ -6,9 +6,11 @@
 #include <cmath>
 #include <cstdio>
 #include <mutex>
+#include <string>
 
 #include "imgui.h"
 #include "imgui_impl_opengl3.h"
+#include "render/color_range.h"
 #include "render/gl.h"
 
 namespace capflow::render {
@@ -46,7 +48,11 @@ Overlay::Overlay(int width, int height) : width_(width), height_(height) {
   font_px_ = std::max(13.f, std::round(18.f * height / 720.f));
   // A scalable system font when present (fonts-dejavu-core), else ImGui's built-in one.
   const char* ttf = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
-  if (::access(ttf, R_OK) == 0) font_ = io.Fonts->AddFontFromFileTTF(ttf, font_px_);
+  // Latin-1, Greek (tau), super- and subscripts (tau_1, G_s, G^-1) and the minus sign
+  static const ImWchar kRanges[] = {0x0020, 0x00FF, 0x0370, 0x03FF, 0x2070,
+                                    0x209F, 0x2212, 0x2212, 0};
+  if (::access(ttf, R_OK) == 0)
+    font_ = io.Fonts->AddFontFromFileTTF(ttf, font_px_, nullptr, kRanges);
   if (!font_) {
     ImFontConfig cfg;
     cfg.SizePixels = 13.f * std::max(1.f, std::round(font_px_ / 13.f));
@@ -93,18 +99,31 @@ void Overlay::draw(const OverlayContent& c) {
       dl->AddRectFilledMultiColor(ImVec2(g.x0, yb), ImVec2(g.x1, ya), cb, cb, ca, ca);
     }
     dl->AddRect(ImVec2(g.x0 - 1, g.y0 - 1), ImVec2(g.x1 + 1, g.y1 + 1), ink, 0.f, 0, 1.f);
-    const int ticks = 5;
-    for (int k = 0; k < ticks; ++k) {
-      const double v = c.vmin + (c.vmax - c.vmin) * k / (ticks - 1);
-      const float y = g.y1 - h * k / (ticks - 1);
+    // values beyond the range: a triangle in the end colour above / below the bar
+    const float tw = g.x1 - g.x0, gap = 3.f, xm = 0.5f * (g.x0 + g.x1);
+    if (c.over) {
+      const ImVec2 a(g.x0, g.y0 - gap), b(g.x1, g.y0 - gap), t(xm, g.y0 - gap - tw);
+      dl->AddTriangleFilled(a, b, t, to_u32(c.colormap->at(1.0)));
+      dl->AddTriangle(a, b, t, ink, 1.f);
+    }
+    if (c.under) {
+      const ImVec2 a(g.x0, g.y1 + gap), b(g.x1, g.y1 + gap), t(xm, g.y1 + gap + tw);
+      dl->AddTriangleFilled(a, b, t, to_u32(c.colormap->at(0.0)));
+      dl->AddTriangle(a, b, t, ink, 1.f);
+    }
+    // round tick values (multiples of a 1-2-5 step) at their place on the bar
+    for (double v : round_ticks(c.vmin, c.vmax)) {
+      const float y = g.y1 - static_cast<float>(h * (v - c.vmin) / (c.vmax - c.vmin));
       dl->AddLine(ImVec2(g.x1 + 1, y), ImVec2(g.x1 + 6, y), ink, 1.f);
       char buf[32];
-      std::snprintf(buf, sizeof buf, "%.3g", std::abs(v) < 1e-12 * std::abs(c.vmax - c.vmin) ? 0.0 : v);
-      dl->AddText(font_, fs, ImVec2(g.x1 + 9, y - 0.5f * fs), ink, buf);
+      std::snprintf(buf, sizeof buf, "%g", std::abs(v));
+      const std::string label = (v < 0 ? "\u2212" : "") + std::string(buf);  // a true minus
+      dl->AddText(font_, fs, ImVec2(g.x1 + 9, y - 0.5f * fs), ink, label.c_str());
     }
     const ImVec2 ts = font_->CalcTextSizeA(fs, 1e9f, 0.f, c.title.c_str());
     const float tx = std::max(4.f, std::min(g.x0, width_ - 6.f - ts.x));
-    dl->AddText(font_, fs, ImVec2(tx, g.y0 - 1.9f * fs), ink, c.title.c_str());
+    const float above = c.over ? tw + gap : 0.f;  // the title clears the triangle
+    dl->AddText(font_, fs, ImVec2(tx, g.y0 - above - 1.9f * fs), ink, c.title.c_str());
   }
   if (c.text) {
     float y = 0.6f * fs;

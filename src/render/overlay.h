@@ -29,7 +29,8 @@ struct OverlayContent {
   bool colorbar = false;
   const Colormap* colormap = nullptr;
   double vmin = 0, vmax = 1;
-  std::string title;               // above the bar
+  bool under = false, over = false;  // values below vmin / above vmax: a triangle at that end
+  std::string title;                 // above the bar (UTF-8: Greek, sub- and superscripts)
   bool text = false;
   std::vector<std::string> lines;  // the text block
 };

@@ -107,6 +107,8 @@ Renderer::Renderer(const RenderOptions& options) : opt_(options) {
   std::string err;
   if (!opt_.IsValid(&err)) throw std::invalid_argument("render options: " + err);
   colormap_ = Colormap::load(opt_.colormap);  // before the context: fail early on assets
+  range_ = std::make_unique<ColorRange>(opt_.range_mode, colormap_.diverging(), opt_.range_min,
+                                        opt_.range_max);
   context_ = GlContext::create(opt_.backend);
   surface_prog_ = program("shaders/surface.vert", "shaders/surface.frag");
   lines_prog_ = program("shaders/lines.vert", "shaders/lines.frag");
@@ -233,25 +235,10 @@ void Renderer::render(const Snapshot& s, Image* out, FrameTimings* timings) {
   t.upsample_ms = ms_since(t0);
   t.upsample_cpu_ms = process_cpu_ms() - c0;
 
-  // Colour range.
-  if (opt_.auto_range) {
-    double lo = mesh_.value_min, hi = mesh_.value_max;
-    if (colormap_.diverging()) {
-      const double m = std::max(std::abs(lo), std::abs(hi));
-      lo = -m;
-      hi = m;
-    }
-    if (!(hi - lo > 1e-12 * std::max(1.0, std::abs(hi)))) {
-      const double c = 0.5 * (lo + hi), d = std::max(0.5 * std::abs(c), 0.5);
-      lo = c - d;
-      hi = c + d;
-    }
-    vmin_ = lo;
-    vmax_ = hi;
-  } else {
-    vmin_ = opt_.range_min;
-    vmax_ = opt_.range_max;
-  }
+  // Colour range (render/color_range.h).
+  range_->update(mesh_.value_min, mesh_.value_max);
+  vmin_ = range_->lo();
+  vmax_ = range_->hi();
   camera_ = make_camera(opt_.camera, mesh_.bbox_min, mesh_.bbox_max,
                         static_cast<double>(opt_.width) / opt_.height);
 
@@ -375,10 +362,12 @@ void Renderer::render(const Snapshot& s, Image* out, FrameTimings* timings) {
   oc.colormap = &colormap_;
   oc.vmin = vmin_;
   oc.vmax = vmax_;
+  oc.under = range_->under();
+  oc.over = range_->over();
   oc.title = field_label(opt_.field);
   oc.text = opt_.overlay_text;
   if (oc.text) {
-    oc.lines = {fmt("t = %.4g", s.time), fmt("Ca = %.4g", s.ca), fmt("D = %.4f", s.diag.D),
+    oc.lines = {fmt("Gt = %.4g", s.time), fmt("Ca = %.4g", s.ca), fmt("D = %.4f", s.diag.D),
                 "law: " + (s.law.empty() ? std::string("-") : s.law)};
   }
   overlay_->draw(oc);

@@ -9,9 +9,10 @@
 //               blended lines
 //   overlay   : Dear ImGui colour bar and text into the resolved FBO
 //   readback  : glReadPixels and vertical flip into Image (rows top-down)
-// Colour range: options.auto_range -> [min, max] of the upsampled field (symmetric [-m, m],
-// m = max|v|, for diverging maps); a constant field c gets [c - d, c + d], d = max(|c|/2, 0.5),
-// so it maps to the middle of the map. Otherwise [range_min, range_max]. Values outside clamp.
+// Colour range: render/color_range.h over the upsampled field's [min, max] of every frame this
+// renderer draws (options.range_mode: Grow by default, so a movie keeps one range that only
+// grows; symmetric for diverging maps). Values outside a fixed range clamp, and the colour bar
+// marks them.
 //
 // Ownership/threads: the constructor creates the GL context (GlContext::create) in the calling
 // thread; every later call must come from that same thread. Throws std::runtime_error on
@@ -85,6 +86,7 @@ class Renderer {
   std::unique_ptr<Overlay> overlay_;
   Camera camera_;
   double vmin_ = 0, vmax_ = 1;
+  std::unique_ptr<ColorRange> range_;
   unsigned surface_prog_ = 0, lines_prog_ = 0;
   unsigned vao_ = 0, vbo_[3] = {0, 0, 0}, ebo_tri_ = 0, ebo_lines_ = 0, cmap_tex_ = 0;
   size_t vbo_capacity_[3] = {0, 0, 0};  // bytes of storage in vbo_ (upload_vertices)

@@ -83,7 +83,7 @@ TEST_P(Images, OrthographicXYEllipsoidSilhouetteRatio) {
 TEST_P(Images, ConstantFieldRendersUniformHueOfTheColormapLevel) {
   require_backend(GetParam());
   RenderOptions o = base();
-  o.auto_range = false;
+  o.range_mode = capflow::render::RangeMode::Fixed;
   o.range_min = 0;
   o.range_max = 1;
   const double level = 0.7;
@@ -141,7 +141,7 @@ TEST_P(Images, ShadingMatchesTheLightingModelAtTheExactSurfacePoint) {
   RenderOptions o = base();
   o.camera.view = View::XY;
   o.camera.orthographic = true;
-  o.auto_range = false;
+  o.range_mode = capflow::render::RangeMode::Fixed;
   o.range_min = -1;
   o.range_max = 1;
   o.width = 1280;  // the sphere ~700 px across: each upsampled triangle spans ~10 px

@@ -1,0 +1,49 @@
+// capflow/render/color_range: which values the colour map spans, frame after frame, and the
+// round tick values of the colour bar.
+//
+// Modes (render.range):
+//   Grow  ("auto", the default): the range holds every value of every frame drawn so far and
+//         never shrinks, so one colour means one tension across a movie. When a frame's data
+//         leave it, it grows to the union, rounded outwards to a multiple of the 1-2-5 tick step
+//         of the new span (a movie's range changes a few times, each time to round values).
+//   Frame ("frame"): each frame's own [min, max] (rounded outwards the same way).
+//   Fixed ([min, max]): as given; values beyond it saturate, and under() / over() say so (the
+//         colour bar marks them).
+// Symmetric (diverging colour maps): [-m, m] with m the larger magnitude.
+// A frame whose values are all equal (a sphere at rest: 0) gets [c - d, c + d], d = max(|c|, 1)/2.
+#pragma once
+
+#include <vector>
+
+namespace capflow::render {
+
+enum class RangeMode { Grow, Frame, Fixed };
+
+// The multiples of a 1-2-5 step (1, 2, 5 times a power of ten) in [lo, hi] (with 1e-9 of the
+// span of slack at the ends), the step chosen so that there are about `target` of them (at
+// least 2 for hi > lo).
+std::vector<double> round_ticks(double lo, double hi, int target = 5);
+
+// The 1-2-5 step for about `target` ticks over a span.
+double tick_step(double span, int target = 5);
+
+class ColorRange {
+ public:
+  ColorRange(RangeMode mode, bool symmetric, double fixed_lo = 0, double fixed_hi = 1);
+  // The range for the next frame, whose values span [data_lo, data_hi].
+  void update(double data_lo, double data_hi);
+  double lo() const { return lo_; }
+  double hi() const { return hi_; }
+  bool under() const { return under_; }  // this frame has values below lo()
+  bool over() const { return over_; }    // ... above hi()
+  RangeMode mode() const { return mode_; }
+
+ private:
+  RangeMode mode_;
+  bool symmetric_;
+  bool started_ = false;
+  double lo_, hi_;
+  bool under_ = false, over_ = false;
+};
+
+}  // namespace capflow::render
