@@ -1,19 +1,24 @@
 // capflow render: draws a surface to a PNG without running the solver (headless figures).
 //
-// Now: an analytic shape (sphere, ellipsoid, lamellar) on the NE-element spectral mesh. Since
-// there are no tensions without the solver, the "tensions" shown are demonstration fields
-// computed from the shape (see --demo). Later (Milestone 5): from a checkpoint.
+// A saved state (app/saved_state.h): a run directory (the surface nearest to --time, or the
+// newest checkpoint), a checkpoint or a .vtp surface, with the run's camera unless --view or
+// --eye says otherwise. Without a source: an analytic shape (sphere, ellipsoid, lamellar) on
+// the NE-element spectral mesh, coloured by a demonstration field computed from the shape
+// (--demo), since there are no tensions without the solver.
 //
 // Example:
+//   capflow render runs/capflow --time 2.5 -o t2.5.png
 //   capflow render --shape ellipsoid --ellipsoid 1.8,0.7,1.0 --elements 10 -o ellipsoid.png
 //   capflow render --shape lamellar --demo x --colormap coolwarm --view xy -o lamellar.png
 #include <array>
 #include <cmath>
 #include <iostream>
+#include <optional>
 #include <string>
 
 #include "app/commands.h"
 #include "app/render_flags.h"
+#include "app/saved_state.h"
 #include "geometry/mesh.h"
 #include "geometry/shapes.h"
 #include "geometry/surface.h"
@@ -24,6 +29,10 @@ namespace capflow::app {
 namespace {
 
 struct RenderCmd {
+  std::string source;          // a run directory, .ckpt or .vtp (empty: an analytic shape)
+  std::optional<double> time;  // with a run directory: the saved surface nearest to it
+  bool camera_given = false;   // --view or --eye: instead of the run's camera
+  bool shape_given = false;
   int ne = 10, nb = 12;
   std::string shape = "ellipsoid", demo = "stretch", view = "oblique", out = "capflow.png";
   std::vector<double> ellipsoid{1.8, 0.7, 1.0}, eye, target, up;
@@ -39,29 +48,8 @@ std::array<double, 3> vec3(const std::vector<double>& v, const char* name) {
   return {v[0], v[1], v[2]};
 }
 
-int run(const RenderCmd& c) {
-  using namespace capflow::render;
-  RenderOptions o;
-  apply_render_flags(c.image, &o);
-  o.msaa = c.msaa;
-  if (!parse_antialias(c.antialias, &o.antialias))
-    throw UserError("--antialias: unknown '" + c.antialias + "' (auto | msaa | lines | off)");
-  if (!c.eye.empty()) {
-    o.camera.view = View::Custom;
-    o.camera.eye = vec3(c.eye, "eye");
-    if (!c.target.empty()) o.camera.target = vec3(c.target, "target");
-    if (!c.up.empty()) o.camera.up = vec3(c.up, "up");
-  } else if (!parse_view(c.view, &o.camera.view)) {
-    throw UserError("--view: unknown '" + c.view + "'");
-  }
-  o.camera.orthographic = c.ortho;
-  o.camera.fov_deg = c.fov;
-  o.element_lines = !c.no_lines;
-  o.overlay_colorbar = !c.no_colorbar;
-  o.overlay_text = !c.no_text;
-  std::string err;
-  if (!o.IsValid(&err)) throw UserError(err);
-
+// An analytic shape on the spectral mesh, coloured by a demonstration field.
+render::Snapshot analytic_shape(const RenderCmd& c) {
   geometry::Mesh mesh(c.ne, c.nb);
   geometry::PointMap map;
   if (c.shape == "sphere")
@@ -75,7 +63,7 @@ int run(const RenderCmd& c) {
     throw UserError("--shape: unknown '" + c.shape + "' (sphere|ellipsoid|lamellar)");
   const auto x = geometry::map_points(mesh.reference(), map);
 
-  Snapshot s;
+  render::Snapshot s;
   s.ne = c.ne;
   s.nb = c.nb;
   const int n = mesh.num_local();
@@ -111,6 +99,42 @@ int run(const RenderCmd& c) {
   }
   s.diag.D = (lx - ly) / (lx + ly);
   s.law = "analytic shape (" + c.shape + ", demo field: " + c.demo + ")";
+  return s;
+}
+
+int run(const RenderCmd& c) {
+  using namespace capflow::render;
+  RenderOptions o;
+  apply_render_flags(c.image, &o);
+  o.msaa = c.msaa;
+  if (!parse_antialias(c.antialias, &o.antialias))
+    throw UserError("--antialias: unknown '" + c.antialias + "' (auto | msaa | lines | off)");
+  if (!c.eye.empty()) {
+    o.camera.view = View::Custom;
+    o.camera.eye = vec3(c.eye, "eye");
+    if (!c.target.empty()) o.camera.target = vec3(c.target, "target");
+    if (!c.up.empty()) o.camera.up = vec3(c.up, "up");
+  } else if (!parse_view(c.view, &o.camera.view)) {
+    throw UserError("--view: unknown '" + c.view + "'");
+  }
+  o.camera.orthographic = c.ortho;
+  o.camera.fov_deg = c.fov;
+  Snapshot s;
+  if (!c.source.empty()) {
+    if (c.shape_given) throw UserError("--shape, --ellipsoid, --demo: only without a SOURCE");
+    SavedState st = load_saved_state(c.source, c.time);
+    if (st.camera && !c.camera_given) o.camera = *st.camera;
+    std::cerr << "render: " << st.note << "\n";
+    s = std::move(st.snapshot);
+  } else {
+    if (c.time) throw UserError("--time: only with a SOURCE (a run directory)");
+    s = analytic_shape(c);
+  }
+  o.element_lines = !c.no_lines;
+  o.overlay_colorbar = !c.no_colorbar;
+  o.overlay_text = !c.no_text;
+  std::string err;
+  if (!o.IsValid(&err)) throw UserError(err);
 
   try {
     Renderer r(o);
@@ -140,6 +164,12 @@ void setup(CLI::App& root) {
       "lambda1 >= lambda2 of the map unit sphere -> shape where tau1, tau2 would be (so\n"
       "--field max shows lambda1, min lambda2, mean their average; all 1 on the sphere);\n"
       "'x' puts the x coordinate in both (a signed field, try --colormap coolwarm).");
+  sub->add_option("source", c->source,
+                  "a run directory, a checkpoint (.ckpt) or a surface (.vtp) to draw (default: an "
+                  "analytic shape)");
+  sub->add_option("--time", c->time,
+                  "with a run directory: the saved surface nearest to this time (default: the "
+                  "newest checkpoint)");
   sub->add_option("--elements", c->ne, "NE: 6, 10 or 14")->check(CLI::IsMember({6, 10, 14}));
   sub->add_option("--nb", c->nb, "NB: Gauss-Lobatto nodes per element direction")
       ->check(CLI::Range(3, 64));
@@ -161,7 +191,13 @@ void setup(CLI::App& root) {
       "auto | msaa | lines | off (auto: lines on a software rasteriser, msaa on a GPU)");
   sub->add_option("--msaa", c->msaa, "multisample count with --antialias msaa (0 = off)");
   sub->add_option("-o,--output", c->out, "output PNG");
-  sub->callback([c] { set_exit_code(run(*c)); });
+  sub->callback([c, sub] {
+    c->camera_given = sub->get_option("--view")->count() + sub->get_option("--eye")->count() > 0;
+    c->shape_given = sub->get_option("--shape")->count() + sub->get_option("--ellipsoid")->count() +
+                         sub->get_option("--demo")->count() >
+                     0;
+    set_exit_code(run(*c));
+  });
 }
 
 }  // namespace

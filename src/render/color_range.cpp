@@ -7,7 +7,7 @@ namespace capflow::render {
 
 double tick_step(double span, int target) {
   if (!(span > 0)) return 1.0;
-  const double raw = span / std::max(1, target - 1);
+  const double raw = span / std::max(1, target);
   const double p = std::pow(10.0, std::floor(std::log10(raw)));
   for (double m : {1.0, 2.0, 5.0, 10.0})
     if (m * p >= raw * (1 - 1e-12)) return m * p;

@@ -10,7 +10,8 @@
 //   Fixed ([min, max]): as given; values beyond it saturate, and under() / over() say so (the
 //         colour bar marks them).
 // Symmetric (diverging colour maps): [-m, m] with m the larger magnitude.
-// A frame whose values are all equal (a sphere at rest: 0) gets [c - d, c + d], d = max(|c|, 1)/2.
+// A frame whose values are all equal (a sphere at rest: 0) gets [c - d, c + d], d = max(|c|, 1)/2,
+// rounded out like any other.
 #pragma once
 
 #include <vector>
@@ -24,7 +25,7 @@ enum class RangeMode { Grow, Frame, Fixed };
 // least 2 for hi > lo).
 std::vector<double> round_ticks(double lo, double hi, int target = 5);
 
-// The 1-2-5 step for about `target` ticks over a span.
+// The smallest 1-2-5 step of at least span / target (target + 1 ticks or fewer).
 double tick_step(double span, int target = 5);
 
 class ColorRange {

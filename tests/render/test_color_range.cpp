@@ -65,7 +65,7 @@ TEST(ColorRange, FrameModeFollowsEachFrame) {
   ColorRange r(RangeMode::Frame, false);
   r.update(0.0, 4.3);
   EXPECT_EQ(r.lo(), 0.0);
-  EXPECT_NEAR(r.hi(), 6.0, 1e-12);  // 4.3 rounded up to the step 2 (a span of ~4 in 4 steps)
+  EXPECT_NEAR(r.hi(), 5.0, 1e-12);  // 4.3 rounded up to the step 1
   r.update(1.54, 1.6);
   EXPECT_NEAR(r.lo(), 1.54, 1e-12);
   EXPECT_NEAR(r.hi(), 1.6, 1e-12);
@@ -73,9 +73,9 @@ TEST(ColorRange, FrameModeFollowsEachFrame) {
 
 TEST(ColorRange, ConstantFieldsAndDivergingMaps) {
   ColorRange c(RangeMode::Grow, false);
-  c.update(0.0, 0.0);  // a sphere at rest
-  EXPECT_NEAR(c.lo(), -0.5, 1e-12);
-  EXPECT_NEAR(c.hi(), 0.5, 1e-12);
+  c.update(0.0, 0.0);  // a sphere at rest: [-0.5, 0.5] rounded out to the step 0.2
+  EXPECT_NEAR(c.lo(), -0.6, 1e-12);
+  EXPECT_NEAR(c.hi(), 0.6, 1e-12);
   ColorRange s(RangeMode::Grow, true);
   s.update(-0.2, 1.3);
   EXPECT_EQ(s.lo(), -s.hi());
