@@ -32,6 +32,7 @@
 #include <functional>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <string>
@@ -41,6 +42,7 @@
 #include "app/figure_data.h"
 #include "app/render_flags.h"
 #include "app/run_directory.h"
+#include "app/saved_state.h"
 #include "control/control_file.h"
 #include "membrane/law.h"
 #include "output/png_writer.h"
@@ -68,6 +70,7 @@ struct FigureCmd {
   std::string vector = "svg";
   bool no_png = false, no_gnuplot = false;
   RenderFlags view = figure_view_flags();  // the 3-D views
+  std::string view_name;                   // --view: instead of each run's camera
 };
 
 struct Run {
@@ -586,8 +589,18 @@ void view_figures(Context& cx, const std::vector<Run>& runs) {
   RenderOptions o;
   apply_render_flags(cx.cmd.view, &o);
   o.png = o.mp4 = false;
+  std::optional<View> view;  // --view: instead of each run's camera
+  if (!cx.cmd.view_name.empty()) {
+    View v;
+    if (!parse_view(cx.cmd.view_name, &v))
+      throw UserError("--view: unknown '" + cx.cmd.view_name + "' (oblique | xy | xz | yz)");
+    view = v;
+    o.camera.view = v;
+  }
   std::string err;
   if (!o.IsValid(&err)) throw UserError(err);
+  // One renderer for every view: with the default colour range (render/color_range.h) the views
+  // share one range that holds all of them, so one colour is one tension across the figures.
   std::unique_ptr<Renderer> renderer;
   std::string renderer_error;
 
@@ -595,27 +608,36 @@ void view_figures(Context& cx, const std::vector<Run>& runs) {
     const auto surfaces = figures::list_surfaces(run.dir);
     std::string how;
     const auto frames = frames_with_times(run, &how);
-    std::vector<double> want = cx.cmd.times;
-    if (want.empty()) {
-      if (!surfaces.empty())
-        want.push_back(surfaces.back().first);
-      else if (!frames.empty())
-        want.push_back(frames.back().first);
-    }
-    if (surfaces.empty() && frames.empty()) {
-      cx.note("run " + run.label +
-              ": no surface data (surface.pvd, vtk/) and no frames, no 3-D views");
-      continue;
-    }
+    // --times; by default the run's final state (its newest checkpoint, else its last surface)
+    std::vector<std::optional<double>> want(cx.cmd.times.begin(), cx.cmd.times.end());
+    if (want.empty()) want.push_back(std::nullopt);
     std::set<std::string> done;
-    for (double t : want) {
-      const std::string name = "view_" + safe_name(run.label) + "_" + time_tag(t);
+    for (const std::optional<double>& t : want) {
+      std::optional<SavedState> st;
+      std::string note;
+      try {
+        st = load_saved_state(run.dir, t);
+      } catch (const UserError& e) {
+        note = e.what();
+        if (!t && !surfaces.empty()) {  // no checkpoint that reads: the last surface
+          try {
+            st = load_saved_state(run.dir, surfaces.back().first);
+          } catch (const UserError&) {
+          }
+        }
+      }
+      // named by the time drawn (the time asked for when nothing was drawn)
+      const double t_name =
+          st ? st->snapshot.time : (t ? *t : (frames.empty() ? 0.0 : frames.back().first));
+      const std::string name = "view_" + safe_name(run.label) + "_" + time_tag(t_name);
+      const bool elsewhere = t && std::abs(t_name - *t) > 1e-9 * (1 + std::abs(*t));
+      if (elsewhere)
+        cx.note(name + ": requested t = " + short_num(*t) +
+                ", nearest saved state t = " + short_num(t_name));
       if (!done.insert(name).second) continue;
       const fs::path png = cx.out / (name + ".png");
-      Snapshot s;
-      std::string note;
       bool rendered = false;
-      if (figures::load_surface(run.dir, t, &s, &note)) {
+      if (st) {
         if (!renderer && renderer_error.empty()) {
           try {
             renderer = std::make_unique<Renderer>(o);
@@ -625,17 +647,19 @@ void view_figures(Context& cx, const std::vector<Run>& runs) {
           }
         }
         if (renderer) {
+          CameraOptions cam = o.camera;
+          if (st->camera && !view) cam = *st->camera;  // the run's camera
+          renderer->set_camera(cam);
+          Snapshot& s = st->snapshot;
           s.law = run.label + (run.law.empty() ? "" : ", " + run.law);
           Image img;
           renderer->render(s, &img);
           output::write_png(png.string(), img.width, img.height, img.rgba.data());
           cx.manifest << "- **" << name << "**: 3-D view of run " << run.label
-                      << " at t = " << short_num(s.time) << ", coloured by " << field_label(o.field)
-                      << " (colour bar), rendered from " << note.substr(note.find(' ') + 1)
+                      << " at t = " << short_num(s.time) << " (" << view_name(cam.view)
+                      << " view), coloured by " << field_label(o.field)
+                      << " (colour bar), rendered from " << st->note
                       << " (paper figs. 6c, 7c, 10). Files: " << name << ".png.\n";
-          if (std::abs(s.time - t) > 1e-9 * (1 + std::abs(t)))
-            cx.note(name + ": requested t = " + short_num(t) +
-                    ", nearest saved surface t = " + short_num(s.time));
           std::cerr << "figure: " << name << " (" << name
                     << ".png, rendered at t = " << short_num(s.time) << ")\n";
           cx.written.push_back(name);
@@ -644,14 +668,16 @@ void view_figures(Context& cx, const std::vector<Run>& runs) {
       }
       if (rendered) continue;
       if (frames.empty()) {
-        cx.note(name + ": " + note + " and no frames with known times; skipped");
+        cx.note(name + ": " + (note.empty() ? renderer_error : note) +
+                " and no frames with known times; skipped");
         continue;
       }
       std::vector<double> ft;
       for (const auto& f : frames) ft.push_back(f.first);
-      const auto& f = frames[static_cast<size_t>(figures::nearest(ft, t))];
+      const auto& f = frames[static_cast<size_t>(figures::nearest(ft, t_name))];
       fs::copy_file(f.second, png, fs::copy_options::overwrite_existing);
-      const std::string msg = name + ": NOT rendered at t = " + short_num(t) + " (" + note +
+      const std::string msg = name + ": NOT rendered at t = " + short_num(t_name) + " (" +
+                              (note.empty() ? renderer_error : note) +
                               "): copied the nearest frame " + f.second +
                               " (t = " + short_num(f.first) + ", " + how + ")";
       cx.note(msg);
@@ -800,6 +826,8 @@ void setup(CLI::App& root) {
   sub->add_flag("--no-png", c->no_png, "no PNG beside the vector image");
   sub->add_flag("--no-gnuplot", c->no_gnuplot, "write the .gp/.dat files without running gnuplot");
   add_render_flags(sub, &c->view, "3-D view ");
+  sub->add_option("--view", c->view_name,
+                  "3-D views from oblique | xy | xz | yz (default: each run's render.view)");
   sub->callback([c] { set_exit_code(run(*c)); });
 }
 

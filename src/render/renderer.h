@@ -62,6 +62,8 @@ class Renderer {
 
   const ContextInfo& context_info() const { return context_->info(); }
   const RenderOptions& options() const { return opt_; }
+  // The camera of the next frames (the colour range and everything else stay).
+  void set_camera(const CameraOptions& c) { opt_.camera = c; }
   // The multisample count in use (0: none): the largest the GL supports up to options().msaa.
   int msaa() const { return msaa_used_; }
   // The anti-aliasing in use (options().antialias with Auto resolved for this GL).

@@ -407,7 +407,7 @@ TEST(FigureCommand, EveryKindFromTwoRunsWithMatchingSidecars) {
 
 TEST(FigureCommand, RenderedViewsFollowTheSurfaceInTime) {
   // The rendered view changes with the requested time (the capsule elongates), and a time
-  // between saved surfaces gets the nearest one (the same image).
+  // between saved surfaces gets the nearest one, named by the time drawn (one file for both).
   const fs::path d = fresh_dir("views");
   make_run(d / "a", 0.4, true);
   const int rc = run_capflow((d / "a").string() + " -o " + (d / "out").string() +
@@ -417,8 +417,18 @@ TEST(FigureCommand, RenderedViewsFollowTheSurfaceInTime) {
   const std::string v0 = slurp(d / "out/view_a_t0.png"), v2 = slurp(d / "out/view_a_t2.png");
   ASSERT_FALSE(v0.empty());
   EXPECT_NE(v0, v2);
-  EXPECT_EQ(slurp(d / "out/view_a_t1.9.png"), v2);
-  EXPECT_NE(slurp(d / "out/figures.md").find("nearest saved surface t = 2"), std::string::npos);
+  EXPECT_FALSE(fs::exists(d / "out/view_a_t1.9.png"));
+  EXPECT_NE(slurp(d / "out/figures.md").find("requested t = 1.9, nearest saved state t = 2"),
+            std::string::npos);
+  // without --times: the final state (the newest checkpoint; this run has none: its last
+  // surface), named by its time, from the view asked for
+  ASSERT_EQ(run_capflow((d / "a").string() + " -o " + (d / "out2").string() +
+                            " --kinds views --view xy --width 160 --height 120",
+                        d / "log2.txt"),
+            0)
+      << slurp(d / "log2.txt");
+  EXPECT_NE(slurp(d / "out2/figures.md").find("(xy view)"), std::string::npos);
+  EXPECT_TRUE(fs::exists(d / "out2/view_a_t2.png"));
 }
 
 TEST(FigureCommand, MissingDataIsSkippedWithAMessage) {
