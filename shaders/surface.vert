@@ -5,7 +5,10 @@
 // and an equal-channel specular term leave the hue of the base colour unchanged). Per vertex on
 // the upsampled grid (NB=25 per element: triangles of a few pixels) the colours are those of
 // per-pixel lighting to within a few levels, at about half the fragment cost on a software
-// rasteriser. Both sides are lit; the fragment shader picks the side it sees.
+// rasteriser. Both sides are lit; the fragment shader picks the side it sees. The lighting is
+// soft (ambient 0.6, a faint highlight) so that the colour of a point reads back on the colour
+// bar: within 6 % of the range for viridis and 2 % for coolwarm where the surface faces the
+// viewer within 53 degrees (tests/render/test_images.cpp, ColoursMapBackToTheirValues...).
 layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec3 a_normal;
 layout(location = 2) in float a_value;
@@ -27,7 +30,7 @@ out vec3 v_back;   // ... and from the other side
 
 const vec3 key_dir = normalize(vec3(0.0, 0.55, 1.0));
 const vec3 fill_dir = normalize(vec3(0.0, -0.7, 0.6));
-const float ambient = 0.28, key = 0.62, fill = 0.22, spec = 0.16, shininess = 48.0;
+const float ambient = 0.6, key = 0.38, fill = 0.1, spec = 0.04, shininess = 48.0;
 
 vec3 lit(vec3 base, vec3 n, vec3 v) {
   float d = ambient + key * max(dot(n, key_dir), 0.0) + fill * max(dot(n, fill_dir), 0.0);
