@@ -16,7 +16,8 @@
 //               value (default: its last profile), fig. 15
 //   steady      steady_half_lengths_vs_ca, steady_ScWc_vs_Lc, steady_ScWc_ratio_vs_Lc,
 //               steady_area_vs_ca, steady_area_vs_Lc, steady_edge_curvature_vs_Lc (log y),
-//               steady_tau_max_vs_ca, steady_tau_max_vs_Lc, steady_tau_max_vs_strain
+//               steady_tau_max_vs_ca, steady_tau_max_vs_Lc, steady_tau_max_vs_strain,
+//               steady_D_vs_ca (with the small-deformation line)
 //               (figs. 16-22)
 //   views       view_<run>_t<T>.png at --times (default: the last saved time), shaded and
 //               coloured by tension with a colour bar (figs. 6c, 7c, 10)
@@ -76,6 +77,10 @@ struct FigureCmd {
 struct Run {
   std::string dir, label, law;
   bool shear = false;  // a simple-shear run (tank-treading: no +x tip; an inclination)
+  // small-deformation theory (Barthes-Biesel & Rallison 1981): D = slope * Ca for Ca -> 0, from
+  // the membrane's area-dilatation modulus Ks (Skalak 1 + 2C, neo-Hookean and Mooney-Rivlin 3):
+  // (5/4)(3 + 1/Ks) in planar extension, half that in simple shear; 0 for other flows
+  double small_deformation_slope = 0;
 };
 
 // ---- data blocks and figure scripts
@@ -399,12 +404,45 @@ void timeseries_figures(Context& cx, const std::vector<Run>& runs) {
                  "inclination (degrees)", sheared, t, {column("inclination_deg", "θ")}, false));
 }
 
+// D against Ca from the runs' steady states, with the small-deformation line D = slope * Ca of
+// each distinct slope (the runs' law and flow) over [0, the largest Ca].
+Figure steady_d_vs_ca(const std::vector<std::pair<Run, Table>>& data) {
+  Figure fig = overlay("steady_D_vs_ca", "Steady Taylor deformation vs Ca", "figs. 16, 17", "Ca",
+                       "D", data, column("ca"), {column("D")}, true);
+  double ca_max = 0;
+  for (const Block& b : fig.blocks)
+    for (const auto& row : b.rows) ca_max = std::max(ca_max, row[0]);
+  std::set<double> slopes;
+  for (const auto& [run, tb] : data)
+    if (run.small_deformation_slope > 0) slopes.insert(run.small_deformation_slope);
+  int k = 0;
+  for (double m : slopes) {
+    Block b;
+    b.comment =
+        "small-deformation theory (Barthes-Biesel & Rallison 1981): D = " + short_num(m) + " Ca";
+    b.columns = {"ca", "D"};
+    b.rows = {{0.0, 0.0}, {ca_max, m * ca_max}};
+    Series s;
+    s.block = static_cast<int>(fig.blocks.size());
+    s.xcol = 1;
+    s.ycol = 2;
+    s.title = "small deformation: D = " + short_num(m) + " Ca";
+    s.style = std::string("lines lw 1.5 lc rgb '#444444' dt ") + kDash[(k++ + 1) % 5];
+    fig.blocks.push_back(std::move(b));
+    fig.series.push_back(s);
+  }
+  return fig;
+}
+
 void steady_figures(Context& cx, const std::vector<Run>& runs) {
   const auto data =
       tables(cx, runs, "steady.csv",
              {"ca", "L", "S", "W", "Lc", "Sc", "Wc", "area", "edge_curvature", "tau_max"});
   if (data.empty()) return;
   const Quantity ca = column("ca"), lc = column("Lc");
+  bool with_d = true;  // steady.csv files before D was a column lack it
+  for (const auto& [run, tb] : data) with_d = with_d && tb.col("D") >= 0;
+  if (with_d) emit(cx, steady_d_vs_ca(data));
   const Quantity ratio{"Sc_over_Wc", "Sc/Wc", [](const Table& t, long r) {
                          return t.num(r, t.col("Sc")) / t.num(r, t.col("Wc"));
                        }};
@@ -765,6 +803,10 @@ int run(FigureCmd c) {
           control::load_control_file((fs::path(r.dir) / "control.json").string()).options;
       r.law = membrane::to_string(o.law.kind);
       r.shear = o.flow.type == capsule::FlowType::SimpleShear;
+      const double ks = o.law.kind == membrane::LawKind::Skalak ? 1 + 2 * o.law.c : 3.0;
+      const double pe = 1.25 * (3 + 1 / ks);
+      if (o.flow.type == capsule::FlowType::PlanarExtension) r.small_deformation_slope = pe;
+      if (r.shear) r.small_deformation_slope = pe / 2;
     } catch (const std::exception&) {
     }
     runs.push_back(r);

@@ -276,6 +276,44 @@ TEST(FigureCommand, ShearRunsGetTheInclinationAndNoTipCurvature) {
   fs::remove_all(d);
 }
 
+TEST(FigureCommand, SteadyDeformationWithTheSmallDeformationLine) {
+  // steady_D_vs_ca: each run's (Ca, D) from steady.csv, and the small-deformation line of its law
+  // and flow: Skalak C = 3 (Ks = 7) in planar extension D = (5/4)(3 + 1/7) Ca = 55/14 Ca,
+  // neo-Hookean (Ks = 3) in simple shear 25/12 Ca
+  const fs::path d = fresh_dir("steady_d");
+  make_run(d / "sk", 0.3, false);
+  put(d / "sk" / "control.json", R"({"ca": 0.3, "capsule": {"law": "skalak", "C": 3}})");
+  make_run(d / "nh", 0.5, false);
+  put(d / "nh" / "control.json",
+      R"({"ca": 0.3, "capsule": {"law": "neo-hookean"}, "flow": {"type": "simple-shear"}})");
+  const fs::path out = d / "out";
+  ASSERT_EQ(run_capflow((d / "sk").string() + " " + (d / "nh").string() + " -o " + out.string() +
+                            " --kinds steady --no-gnuplot",
+                        d / "log.txt"),
+            0)
+      << slurp(d / "log.txt");
+  const auto dat = read_dat(out / "steady_D_vs_ca.dat");
+  ASSERT_EQ(dat.size(), 4u);  // two runs, two theory lines
+  for (int r = 0; r < 2; ++r) {
+    const fig::Table st = fig::read_csv((d / (r == 0 ? "sk" : "nh") / "steady.csv").string());
+    ASSERT_EQ(static_cast<long>(dat[r].size()), st.rows());
+    for (long i = 0; i < st.rows(); ++i) {
+      EXPECT_EQ(dat[r][i][0], st.num(i, st.col("ca")));
+      EXPECT_EQ(dat[r][i][1], st.num(i, st.col("D")));
+    }
+  }
+  // the lines, in increasing slope: 25/12 (shear), 55/14 (planar extension), through 0 to 0.6
+  const double slopes[2] = {25.0 / 12, 55.0 / 14};
+  for (int k = 0; k < 2; ++k) {
+    ASSERT_EQ(dat[2 + k].size(), 2u);
+    EXPECT_EQ(dat[2 + k][0][0], 0.0);
+    EXPECT_NEAR(dat[2 + k][1][0], 0.6, 1e-12);
+    EXPECT_NEAR(dat[2 + k][1][1] / dat[2 + k][1][0], slopes[k], 1e-12);
+  }
+  EXPECT_NE(slurp(out / "steady_D_vs_ca.gp").find("small deformation"), std::string::npos);
+  fs::remove_all(d);
+}
+
 TEST(FigureCommand, EveryKindFromTwoRunsWithMatchingSidecars) {
   if (!gnuplot_available()) GTEST_SKIP() << "gnuplot not installed (apt-get install gnuplot-nox)";
   const fs::path d = fresh_dir("all");
@@ -306,7 +344,8 @@ TEST(FigureCommand, EveryKindFromTwoRunsWithMatchingSidecars) {
                                           "steady_edge_curvature_vs_Lc",
                                           "steady_tau_max_vs_ca",
                                           "steady_tau_max_vs_Lc",
-                                          "steady_tau_max_vs_strain"};
+                                          "steady_tau_max_vs_strain",
+                                          "steady_D_vs_ca"};
   const std::string manifest = slurp(out / "figures.md");
   for (const auto& p : plots) {
     SCOPED_TRACE(p);
