@@ -55,7 +55,8 @@ struct RenderOptions {
                                 // (the same image for a closed surface, a cheaper draw)
   std::array<float, 3> line_color{0.12f, 0.12f, 0.12f};
   bool overlay_colorbar = true;  // labelled colour bar (ignored for ColorField::Plain)
-  bool overlay_text = true;      // t, Ca, D, law
+  bool overlay_text = true;      // t, Ca, D, law, flow
+  bool overlay_triad = true;     // the world axes x, y, z at the bottom left
   Backend backend = Backend::Auto;
 
   // Outputs of the renderer thread (RenderThread); `capflow render` writes one PNG itself.

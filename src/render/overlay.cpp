@@ -74,7 +74,7 @@ Overlay::~Overlay() {
 }
 
 void Overlay::draw(const OverlayContent& c) {
-  if (!(c.colorbar && c.colormap) && !c.text) return;
+  if (!(c.colorbar && c.colormap) && !c.text && !c.triad) return;
   std::lock_guard<std::mutex> lock(imgui_mutex());
   ImGuiContext* prev = ImGui::GetCurrentContext();
   ImGui::SetCurrentContext(ctx_);
@@ -124,6 +124,26 @@ void Overlay::draw(const OverlayContent& c) {
     const float tx = std::max(4.f, std::min(g.x0, width_ - 6.f - ts.x));
     const float above = c.over ? tw + gap : 0.f;  // the title clears the triangle
     dl->AddText(font_, fs, ImVec2(tx, g.y0 - above - 1.9f * fs), ink, c.title.c_str());
+  }
+  if (c.triad) {
+    // world x, y, z in red, green, blue from a common origin, the ones pointing away from the
+    // viewer first; each labelled at its tip
+    const float len = std::max(28.f, std::round(0.075f * height_));
+    const ImVec2 o(0.8f * fs + len * 1.15f, height_ - 0.8f * fs - len * 1.15f);
+    const ImU32 colour[3] = {IM_COL32(200, 40, 40, 255), IM_COL32(30, 150, 50, 255),
+                             IM_COL32(40, 80, 210, 255)};
+    const char* name[3] = {"x", "y", "z"};
+    for (int pass = 0; pass < 2; ++pass)
+      for (int a = 0; a < 3; ++a) {
+        if (c.towards_viewer[a] != (pass == 1)) continue;
+        const ImVec2 tip(o.x + len * c.axis_x[a], o.y - len * c.axis_y[a]);
+        dl->AddLine(o, tip, colour[a], 2.f);
+        const float r = std::hypot(c.axis_x[a], c.axis_y[a]);
+        const float ux = r > 1e-3f ? c.axis_x[a] / r : 0.f, uy = r > 1e-3f ? c.axis_y[a] / r : 0.f;
+        const ImVec2 label(o.x + (len * r + 0.7f * fs) * ux - 0.3f * fs,
+                           o.y - (len * r + 0.7f * fs) * uy - 0.55f * fs);
+        dl->AddText(font_, fs, label, colour[a], name[a]);
+      }
   }
   if (c.text) {
     float y = 0.6f * fs;

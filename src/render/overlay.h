@@ -33,6 +33,12 @@ struct OverlayContent {
   std::string title;                 // above the bar (UTF-8: Greek, sub- and superscripts)
   bool text = false;
   std::vector<std::string> lines;  // the text block
+  // Axis triad at the bottom left: the screen directions (x right, y up; length <= 1, shorter
+  // when the axis points towards or away from the viewer) of the world axes x, y, z, and
+  // whether each points towards the viewer (drawn last, over the others).
+  bool triad = false;
+  float axis_x[3] = {1, 0, 0}, axis_y[3] = {0, 1, 0};  // screen x and y of world x, y, z
+  bool towards_viewer[3] = {false, false, true};
 };
 
 class Overlay {

@@ -366,9 +366,16 @@ void Renderer::render(const Snapshot& s, Image* out, FrameTimings* timings) {
   oc.over = range_->over();
   oc.title = field_label(opt_.field);
   oc.text = opt_.overlay_text;
+  oc.triad = opt_.overlay_triad;
+  for (int a = 0; a < 3; ++a) {  // the view matrix's rotation: world axis a in eye coordinates
+    oc.axis_x[a] = camera_.view[4 * a + 0];
+    oc.axis_y[a] = camera_.view[4 * a + 1];
+    oc.towards_viewer[a] = camera_.view[4 * a + 2] > 0;  // the eye looks along -z
+  }
   if (oc.text) {
     oc.lines = {fmt("Gt = %.4g", s.time), fmt("Ca = %.4g", s.ca), fmt("D = %.4f", s.diag.D),
                 "law: " + (s.law.empty() ? std::string("-") : s.law)};
+    if (!s.flow.empty()) oc.lines.push_back("flow: " + s.flow);
   }
   overlay_->draw(oc);
   glFinish();

@@ -26,21 +26,26 @@ struct SnapshotDiagnostics {
 };
 
 struct Snapshot {
-  int ne = 0;                 // number of elements (6, 10, 14)
-  int nb = 0;                 // Gauss-Lobatto nodes per element direction
-  std::vector<double> x;      // 3 * ne*nb*nb node positions
-  std::vector<double> tau1;   // ne*nb*nb (or empty)
-  std::vector<double> tau2;   // ne*nb*nb (or empty)
-  double time = 0;            // simulated time (units of 1/shear rate)
-  double ca = 0;              // capillary number
-  std::string law;            // membrane law name, e.g. "neo-Hookean"
+  int ne = 0;                // number of elements (6, 10, 14)
+  int nb = 0;                // Gauss-Lobatto nodes per element direction
+  std::vector<double> x;     // 3 * ne*nb*nb node positions
+  std::vector<double> tau1;  // ne*nb*nb (or empty)
+  std::vector<double> tau2;  // ne*nb*nb (or empty)
+  double time = 0;           // simulated time (units of 1/shear rate)
+  double ca = 0;             // capillary number
+  std::string law;           // membrane law name, e.g. "neo-Hookean"
+  std::string flow;          // the flow and its principal directions, for the text block
+                             // (empty: not shown)
   SnapshotDiagnostics diag;
-  long frame = -1;            // movie frame index set by the producer (-1: not a movie frame)
+  long frame = -1;  // movie frame index set by the producer (-1: not a movie frame)
 
   int num_nodes() const { return ne * nb * nb; }
   // Sizes consistent and ne, nb positive; on failure *error says what is wrong.
   bool IsValid(std::string* error) const {
-    auto fail = [&](const char* m) { if (error) *error = m; return false; };
+    auto fail = [&](const char* m) {
+      if (error) *error = m;
+      return false;
+    };
     if (ne <= 0 || nb < 2) return fail("snapshot: ne must be > 0 and nb >= 2");
     const size_t n = static_cast<size_t>(num_nodes());
     if (x.size() != 3 * n) return fail("snapshot: x must hold 3*ne*nb*nb values");

@@ -45,6 +45,7 @@ class Images : public ::testing::TestWithParam<Backend> {
     o.height = 480;
     o.overlay_colorbar = false;
     o.overlay_text = false;
+    o.overlay_triad = false;  // the surface alone (AxisTriadFollowsTheCamera turns it on)
     o.element_lines = false;
     return o;
   }
@@ -270,6 +271,44 @@ TEST_P(Images, ColoursMapBackToTheirValuesThroughTheColourBar) {
     const bool viridis = cm == ColorMap::Viridis;
     EXPECT_LT(worst, viridis ? 0.065 : 0.03) << capflow::render::colormap_name(cm);
     EXPECT_LT(sum / counted, viridis ? 0.015 : 0.01) << capflow::render::colormap_name(cm);
+  }
+}
+
+// The axis triad at the bottom left follows the camera: seen along -z (view xy) the red x axis
+// points right and the green y axis up from their common origin; seen along -y (view xz) the blue
+// z axis points up.
+TEST_P(Images, AxisTriadFollowsTheCamera) {
+  require_backend(GetParam());
+  for (View view : {View::XY, View::XZ}) {
+    RenderOptions o = base();
+    o.camera.view = view;
+    o.overlay_triad = true;
+    Renderer r(o);
+    Image img;
+    r.render(shape_snapshot(6, 6, geometry::ellipsoid_map(1, 1, 1),
+                            [](double, double, double) { return 0.0; }),
+             &img);
+    // centroids of the axis colours in the bottom-left corner, clear of the sphere (y down)
+    double sum[3][3] = {};  // per colour: x, y, count
+    for (int y = img.height * 3 / 4; y < img.height; ++y)
+      for (int x = 0; x < img.width / 6; ++x) {
+        const uint8_t* p = img.pixel(x, y);
+        const int c = p[0] > 150 && p[1] < 90 && p[2] < 90     ? 0
+                      : p[1] > 110 && p[0] < 90 && p[2] < 110  ? 1
+                      : p[2] > 150 && p[0] < 100 && p[1] < 130 ? 2
+                                                               : -1;
+        if (c < 0) continue;
+        sum[c][0] += x;
+        sum[c][1] += y;
+        sum[c][2] += 1;
+      }
+    const int up = view == View::XY ? 1 : 2;  // the axis drawn pointing up
+    ASSERT_GT(sum[0][2], 20) << view_name(view);
+    ASSERT_GT(sum[up][2], 20) << view_name(view);
+    const double rx = sum[0][0] / sum[0][2], ry = sum[0][1] / sum[0][2];
+    const double ux = sum[up][0] / sum[up][2], uy = sum[up][1] / sum[up][2];
+    EXPECT_GT(rx - ux, 10) << view_name(view);  // x to the right of the upward axis
+    EXPECT_GT(ry - uy, 10) << view_name(view);  // the upward axis above x
   }
 }
 
