@@ -409,24 +409,31 @@ void timeseries_figures(Context& cx, const std::vector<Run>& runs) {
 Figure steady_d_vs_ca(const std::vector<std::pair<Run, Table>>& data) {
   Figure fig = overlay("steady_D_vs_ca", "Steady Taylor deformation vs Ca", "figs. 16, 17", "Ca",
                        "D", data, column("ca"), {column("D")}, true);
-  double ca_max = 0;
+  double ca_max = 0, d_max = 0;
   for (const Block& b : fig.blocks)
-    for (const auto& row : b.rows) ca_max = std::max(ca_max, row[0]);
+    for (const auto& row : b.rows) {
+      ca_max = std::max(ca_max, row[0]);
+      d_max = std::max(d_max, row[1]);
+    }
   std::set<double> slopes;
   for (const auto& [run, tb] : data)
     if (run.small_deformation_slope > 0) slopes.insert(run.small_deformation_slope);
   int k = 0;
   for (double m : slopes) {
+    // the asymptote of small Ca: drawn up to the data's largest D (x1.1), not across the plot
+    const double ca_end = std::min(ca_max, 1.1 * d_max / m);
+    char slope[32];
+    std::snprintf(slope, sizeof slope, "%.3g", m);
     Block b;
     b.comment =
         "small-deformation theory (Barthes-Biesel & Rallison 1981): D = " + short_num(m) + " Ca";
     b.columns = {"ca", "D"};
-    b.rows = {{0.0, 0.0}, {ca_max, m * ca_max}};
+    b.rows = {{0.0, 0.0}, {ca_end, m * ca_end}};
     Series s;
     s.block = static_cast<int>(fig.blocks.size());
     s.xcol = 1;
     s.ycol = 2;
-    s.title = "small deformation: D = " + short_num(m) + " Ca";
+    s.title = std::string("small deformation: D = ") + slope + " Ca";
     s.style = std::string("lines lw 1.5 lc rgb '#444444' dt ") + kDash[(k++ + 1) % 5];
     fig.blocks.push_back(std::move(b));
     fig.series.push_back(s);

@@ -302,12 +302,13 @@ TEST(FigureCommand, SteadyDeformationWithTheSmallDeformationLine) {
       EXPECT_EQ(dat[r][i][1], st.num(i, st.col("D")));
     }
   }
-  // the lines, in increasing slope: 25/12 (shear), 55/14 (planar extension), through 0 to 0.6
+  // the lines, in increasing slope: 25/12 (shear), 55/14 (planar extension), from 0 up to the
+  // data's largest D (0.5 x 0.6) x 1.1
   const double slopes[2] = {25.0 / 12, 55.0 / 14};
   for (int k = 0; k < 2; ++k) {
     ASSERT_EQ(dat[2 + k].size(), 2u);
     EXPECT_EQ(dat[2 + k][0][0], 0.0);
-    EXPECT_NEAR(dat[2 + k][1][0], 0.6, 1e-12);
+    EXPECT_NEAR(dat[2 + k][1][1], 1.1 * 0.5 * 0.6, 1e-12);
     EXPECT_NEAR(dat[2 + k][1][1] / dat[2 + k][1][0], slopes[k], 1e-12);
   }
   EXPECT_NE(slurp(out / "steady_D_vs_ca.gp").find("small deformation"), std::string::npos);
