@@ -159,7 +159,10 @@ void setup(CLI::App& root) {
   CLI::App* sub = root.add_subcommand(
       "render",
       "Render a surface to a PNG without running the solver (headless figure).\n"
-      "Without the solver there are no tensions: the colour field shows a demonstration\n"
+      "SOURCE: a run directory (its newest checkpoint, or with --time the saved surface\n"
+      "nearest to it), a checkpoint (.ckpt) or a surface (.vtp), drawn with the run's camera.\n"
+      "Without a SOURCE, an analytic shape; there are no tensions without the solver, so\n"
+      "the colour field shows a demonstration\n"
       "field computed from the shape (--demo): 'stretch' puts the principal stretches\n"
       "lambda1 >= lambda2 of the map unit sphere -> shape where tau1, tau2 would be (so\n"
       "--field max shows lambda1, min lambda2, mean their average; all 1 on the sphere);\n"
