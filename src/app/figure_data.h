@@ -186,6 +186,17 @@ inline long nearest(const std::vector<double>& ts, double t) {
 
 // ---------------------------------------------------------------- surfaces
 
+// The scalars a surface file carries in its FieldData: Ca and the snapshot's diagnostics.
+inline std::map<std::string, double> snapshot_field_scalars(const render::Snapshot& s) {
+  return {{"ca", s.ca},
+          {"D", s.diag.D},
+          {"L", s.diag.L},
+          {"S", s.diag.S},
+          {"W", s.diag.W},
+          {"tau_max", s.diag.tau_max},
+          {"tau_min", s.diag.tau_min}};
+}
+
 inline output::VtkSurface vtk_from_snapshot(const render::Snapshot& s) {
   output::VtkSurface v;
   v.ne = s.ne;
@@ -196,13 +207,7 @@ inline output::VtkSurface vtk_from_snapshot(const render::Snapshot& s) {
     v.point_arrays["tau1"] = {1, s.tau1};
     v.point_arrays["tau2"] = {1, s.tau2};
   }
-  v.field_scalars = {{"ca", s.ca},
-                     {"D", s.diag.D},
-                     {"L", s.diag.L},
-                     {"S", s.diag.S},
-                     {"W", s.diag.W},
-                     {"tau_max", s.diag.tau_max},
-                     {"tau_min", s.diag.tau_min}};
+  v.field_scalars = snapshot_field_scalars(s);
   return v;
 }
 

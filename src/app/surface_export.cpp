@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "app/figure_data.h"
 #include "geometry/surface.h"
 #include "spectral/spectral.h"
 
@@ -99,13 +100,7 @@ output::VtkSurface surface_export(const geometry::Mesh& mesh, const NodalState& 
   const geometry::SurfaceGeometry g = geometry::compute_geometry(mesh, *s.x);
   v.point_arrays["mean_curvature"] = {1, resample(rs, g.mean_curvature.transpose(), ne)};
   if (s.velocity) v.point_arrays["velocity"] = {3, resample(rs, *s.velocity, ne)};
-  v.field_scalars = {{"ca", sn.ca},
-                     {"D", sn.diag.D},
-                     {"L", sn.diag.L},
-                     {"S", sn.diag.S},
-                     {"W", sn.diag.W},
-                     {"tau_max", sn.diag.tau_max},
-                     {"tau_min", sn.diag.tau_min}};
+  v.field_scalars = figures::snapshot_field_scalars(sn);
   return v;
 }
 

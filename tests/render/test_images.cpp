@@ -115,6 +115,29 @@ TEST_P(Images, ConstantFieldRendersUniformHueOfTheColormapLevel) {
 
 // The lighting model of shaders/surface.vert (Blinn-Phong, two white lights fixed to the camera),
 // evaluated exactly at a surface point: eye-space unit normal n, view direction v, base colour.
+// The image of a sphere (every pixel that is not background): its centre and the radius of the
+// disc of the same area, in pixels (to a fraction of a pixel).
+struct Disc {
+  double cx = 0, cy = 0, radius = 0, area = 0;
+};
+Disc disc_of(const Image& img) {
+  Disc d;
+  double sx = 0, sy = 0;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x)
+      if (!is_background(img.pixel(x, y))) {
+        sx += x + 0.5;
+        sy += y + 0.5;
+        d.area += 1;
+      }
+  if (d.area > 0) {
+    d.cx = sx / d.area;
+    d.cy = sy / d.area;
+    d.radius = std::sqrt(d.area / M_PI);
+  }
+  return d;
+}
+
 std::array<double, 3> exact_lit(const std::array<float, 3>& base, const double n[3],
                                 const double v[3]) {
   auto unit = [](double x, double y, double z) {
@@ -152,16 +175,9 @@ TEST_P(Images, ShadingMatchesTheLightingModelAtTheExactSurfacePoint) {
   r.render(shape_snapshot(6, 10, geometry::ellipsoid_map(1, 1, 1),
                           [](double x, double, double) { return x; }),
            &img);
-  double sx = 0, sy = 0, area = 0;
-  for (int y = 0; y < img.height; ++y)
-    for (int x = 0; x < img.width; ++x)
-      if (!is_background(img.pixel(x, y))) {
-        sx += x + 0.5;
-        sy += y + 0.5;
-        area += 1;
-      }
-  ASSERT_GT(area, 20000);
-  const double cx = sx / area, cy = sy / area, radius = std::sqrt(area / M_PI);
+  const Disc disc = disc_of(img);
+  ASSERT_GT(disc.area, 20000);
+  const double cx = disc.cx, cy = disc.cy, radius = disc.radius;
   const double v[3] = {0, 0, 1};
   int counted = 0, over2 = 0;
   double worst = 0, sum = 0;
@@ -229,16 +245,9 @@ TEST_P(Images, ColoursMapBackToTheirValuesThroughTheColourBar) {
       const auto c = r.colormap().at(static_cast<double>(k) / (bar.size() - 1));
       bar[k] = lab(c[0], c[1], c[2]);
     }
-    double sx = 0, sy = 0, area = 0;
-    for (int y = 0; y < img.height; ++y)
-      for (int x = 0; x < img.width; ++x)
-        if (!is_background(img.pixel(x, y))) {
-          sx += x + 0.5;
-          sy += y + 0.5;
-          area += 1;
-        }
-    ASSERT_GT(area, 5000);
-    const double cx = sx / area, cy = sy / area, radius = std::sqrt(area / M_PI);
+    const Disc disc = disc_of(img);
+    ASSERT_GT(disc.area, 5000);
+    const double cx = disc.cx, cy = disc.cy, radius = disc.radius;
     double worst = 0, sum = 0;
     int counted = 0;
     for (int y = 0; y < img.height; ++y)
