@@ -1,5 +1,6 @@
 #include "app/saved_state.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <sstream>
@@ -12,7 +13,7 @@
 #include "control/control_file.h"
 #include "control/options.h"
 #include "diagnostics/diagnostics.h"
-#include "membrane/membrane.h"
+#include "membrane/law.h"
 #include "output/vtk.h"
 
 namespace capflow::app {
@@ -35,10 +36,13 @@ SavedState from_checkpoint(const RunCheckpoint& ck) {
   so.axes = o.flow.type == capsule::FlowType::SimpleShear ? diagnostics::AxesMode::Shear
                                                           : diagnostics::AxesMode::FlowAxes;
   const diagnostics::ShapeDiagnostics d = diagnostics::measure_shape(*ck.mesh, ck.x, so);
-  const membrane::MembraneFields f = cap.fields(ck.x);
   SavedState s;
-  s.snapshot = state_snapshot(cap, ck.x, ck.t, ck.ca, membrane::to_string(o.law.kind),
-                              {d.D, d.L, d.S, d.W, f.tension1.maxCoeff(), f.tension2.minCoeff()});
+  s.snapshot =
+      state_snapshot(cap, ck.x, ck.t, ck.ca, membrane::to_string(o.law.kind), {d.D, d.L, d.S, d.W});
+  const auto& t1 = s.snapshot.tau1;  // the tensions state_snapshot computed
+  const auto& t2 = s.snapshot.tau2;
+  s.snapshot.diag.tau_max = *std::max_element(t1.begin(), t1.end());
+  s.snapshot.diag.tau_min = *std::min_element(t2.begin(), t2.end());
   s.camera = o.render.camera;
   s.note = "checkpoint " + ck.path + " (t = " + num(ck.t) + ")";
   return s;

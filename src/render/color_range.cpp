@@ -16,6 +16,7 @@ double tick_step(double span, int target) {
 
 std::vector<double> round_ticks(double lo, double hi, int target) {
   std::vector<double> t;
+  if (!std::isfinite(lo) || !std::isfinite(hi)) return t;  // no ticks for a non-finite range
   if (!(hi > lo)) return {lo};
   double step = tick_step(hi - lo, target);
   for (;;) {
@@ -48,6 +49,15 @@ ColorRange::ColorRange(RangeMode mode, bool symmetric, double fixed_lo, double f
     : mode_(mode), symmetric_(symmetric), lo_(fixed_lo), hi_(fixed_hi) {}
 
 void ColorRange::update(double data_lo, double data_hi) {
+  if (!std::isfinite(data_lo) || !std::isfinite(data_hi)) {
+    // a frame with non-finite values (a failing run) keeps the range: it must not poison it
+    under_ = over_ = false;
+    if (!started_ && mode_ != RangeMode::Fixed) {
+      lo_ = -0.5;
+      hi_ = 0.5;
+    }
+    return;
+  }
   if (mode_ == RangeMode::Fixed) {
     under_ = data_lo < lo_;
     over_ = data_hi > hi_;

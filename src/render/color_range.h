@@ -11,7 +11,7 @@
 //         colour bar marks them).
 // Symmetric (diverging colour maps): [-m, m] with m the larger magnitude.
 // A frame whose values are all equal (a sphere at rest: 0) gets [c - d, c + d], d = max(|c|, 1)/2,
-// rounded out like any other.
+// rounded out like any other. A frame with non-finite values leaves the range as it was.
 #pragma once
 
 #include <vector>

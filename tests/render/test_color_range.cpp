@@ -117,3 +117,15 @@ TEST(ColorRange, TicksAreRoundAndInside) {
   const std::vector<double> t = round_ticks(1.54, 4.31);
   EXPECT_EQ(t, (std::vector<double>{2, 3, 4}));
 }
+
+TEST(ColorRange, NonFiniteFramesLeaveTheRangeAlone) {
+  ColorRange r(RangeMode::Grow, false);
+  r.update(0.0, 4.3);
+  const double lo = r.lo(), hi = r.hi();
+  r.update(std::nan(""), 1.0);
+  r.update(0.0, INFINITY);
+  EXPECT_EQ(r.lo(), lo);
+  EXPECT_EQ(r.hi(), hi);
+  EXPECT_TRUE(round_ticks(-INFINITY, 1.0).empty());
+  EXPECT_TRUE(round_ticks(0.0, std::nan("")).empty());
+}
