@@ -6,9 +6,9 @@
 #include <sstream>
 
 #include "app/errors.h"
-#include "app/figure_data.h"
 #include "app/frames.h"
 #include "app/run_checkpoint.h"
+#include "app/surface_files.h"
 #include "capsule/capsule.h"
 #include "control/control_file.h"
 #include "control/options.h"
@@ -56,7 +56,7 @@ SavedState from_vtp(const std::string& path) {
     throw UserError(e.what());
   }
   SavedState s;
-  s.snapshot = figures::snapshot_from_vtk(v);
+  s.snapshot = snapshot_from_vtk(v);
   std::string err;
   if (!s.snapshot.IsValid(&err)) throw UserError(path + ": " + err);
   s.note = "surface " + path + " (t = " + num(v.time) + ")";
@@ -82,7 +82,7 @@ SavedState load_saved_state(const std::string& source, std::optional<double> tim
   if (time) {
     render::Snapshot sn;
     std::string note;
-    if (figures::load_surface(source, *time, &sn, &note)) {
+    if (load_surface(source, *time, &sn, &note)) {
       SavedState s;
       s.snapshot = std::move(sn);
       if (latest) s.camera = latest->options.render.camera;

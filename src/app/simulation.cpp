@@ -15,7 +15,6 @@
 
 #include "app/cpu_budget.h"
 #include "app/errors.h"
-#include "app/figure_data.h"
 #include "app/frames.h"
 #include "app/output_cadence.h"
 #include "app/progress.h"
@@ -23,6 +22,7 @@
 #include "app/run_directory.h"
 #include "app/run_log.h"
 #include "app/surface_export.h"
+#include "app/surface_files.h"
 #include "app/time_stepper.h"
 #include "app/worker_team.h"
 #include "capsule/capsule.h"
@@ -282,11 +282,10 @@ struct Simulation::Impl {
   // mean curvature, the velocity of this state) + the .pvd collection entry.
   void write_vtk(const Measures& m, double ca) {
     dir->subdirectory("vtk");
-    const std::string name = figures::surface_file_name(vtk_index);
+    const std::string name = surface_file_name(vtk_index);
     as_output("cannot write " + dir->file(name).string(), [&] {
       if (!pvd)
-        pvd = std::make_unique<output::PvdCollection>(
-            dir->file(figures::kSurfaceCollection).string());
+        pvd = std::make_unique<output::PvdCollection>(dir->file(kSurfaceCollection).string());
       output::write_vtp(dir->file(name).string(), surface(m, ca));
       pvd->add(cap->time(), name);
     });
@@ -752,10 +751,9 @@ std::unique_ptr<Simulation> Simulation::resume(const std::string& run_dir,
   s.pending.vtk = c.pending_vtk;
   s.pending_steady_ca = c.pending_steady_ca;
   s.pending_ca = c.pending_ca;
-  if (fs::exists(s.dir->file(figures::kSurfaceCollection)))
-    as_output("cannot rewrite " + s.dir->file(figures::kSurfaceCollection).string(), [&] {
-      s.pvd = std::make_unique<output::PvdCollection>(
-          s.dir->file(figures::kSurfaceCollection).string());
+  if (fs::exists(s.dir->file(kSurfaceCollection)))
+    as_output("cannot rewrite " + s.dir->file(kSurfaceCollection).string(), [&] {
+      s.pvd = std::make_unique<output::PvdCollection>(s.dir->file(kSurfaceCollection).string());
       s.pvd->truncate_after(c.t);
     });
   s.write_effective_control();

@@ -4,7 +4,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "app/figure_data.h"
+#include "app/surface_files.h"
 #include "geometry/surface.h"
 #include "spectral/spectral.h"
 
@@ -100,7 +100,7 @@ output::VtkSurface surface_export(const geometry::Mesh& mesh, const NodalState& 
   const geometry::SurfaceGeometry g = geometry::compute_geometry(mesh, *s.x);
   v.point_arrays["mean_curvature"] = {1, resample(rs, g.mean_curvature.transpose(), ne)};
   if (s.velocity) v.point_arrays["velocity"] = {3, resample(rs, *s.velocity, ne)};
-  v.field_scalars = figures::snapshot_field_scalars(sn);
+  v.field_scalars = snapshot_field_scalars(sn);
   return v;
 }
 

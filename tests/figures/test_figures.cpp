@@ -15,14 +15,16 @@
 #include <string>
 #include <vector>
 
-#include "app/figure_data.h"
+#include "app/surface_files.h"
+#include "figures/run_tables.h"
 #include "geometry/mesh.h"
 #include "geometry/shapes.h"
 #include "output/png_writer.h"
 #include "output/vtk.h"
 
 namespace fs = std::filesystem;
-namespace fig = capflow::app::figures;
+namespace fig = capflow::figures;
+namespace app = capflow::app;
 
 namespace {
 
@@ -108,7 +110,7 @@ void make_run(const fs::path& d, double amp, bool surfaces) {
   }
   if (surfaces) {
     fs::create_directories(d / "vtk");
-    capflow::output::PvdCollection pvd((d / fig::kSurfaceCollection).string());
+    capflow::output::PvdCollection pvd((d / app::kSurfaceCollection).string());
     capflow::geometry::Mesh mesh(6, 9);  // odd NB: a node at each face centre
     for (int k = 0; k <= 2; ++k) {
       const double t = k, D = deformation(t, amp);
@@ -127,8 +129,8 @@ void make_run(const fs::path& d, double amp, bool surfaces) {
         s.tau2.push_back(x(2, i));
       }
       s.diag.tau_max = *std::max_element(s.tau1.begin(), s.tau1.end());
-      const std::string f = fig::surface_file_name(k);
-      capflow::output::write_vtp((d / f).string(), fig::vtk_from_snapshot(s));
+      const std::string f = app::surface_file_name(k);
+      capflow::output::write_vtp((d / f).string(), app::vtk_from_snapshot(s));
       pvd.add(t, f);
     }
   }
@@ -220,7 +222,7 @@ TEST(FigureData, LoadSurfaceNearestInTimeFromOwnVtp) {
   make_run(d / "b", 0.3, false);
   capflow::render::Snapshot s;
   std::string note;
-  ASSERT_TRUE(fig::load_surface((d / "a").string(), 0.8, &s, &note)) << note;
+  ASSERT_TRUE(app::load_surface((d / "a").string(), 0.8, &s, &note)) << note;
   EXPECT_EQ(s.time, 1.0);
   EXPECT_EQ(s.ne, 6);
   EXPECT_EQ(s.nb, 9);
@@ -233,18 +235,18 @@ TEST(FigureData, LoadSurfaceNearestInTimeFromOwnVtp) {
   for (int k = 0; k < s.num_nodes(); ++k) xmax = std::max(xmax, s.x[3 * k]);
   EXPECT_NEAR(xmax, 1 + deformation(1, 0.3), 1e-14);
   EXPECT_EQ(s.diag.tau_max, *std::max_element(s.tau1.begin(), s.tau1.end()));  // stored field
-  ASSERT_TRUE(fig::load_surface((d / "a").string(), 100, &s, &note));
+  ASSERT_TRUE(app::load_surface((d / "a").string(), 100, &s, &note));
   EXPECT_EQ(s.time, 2.0);
   // A damaged nearest file: the next nearest is used.
-  put(d / "a" / fig::surface_file_name(2), "<VTKFile");
-  ASSERT_TRUE(fig::load_surface((d / "a").string(), 100, &s, &note)) << note;
+  put(d / "a" / app::surface_file_name(2), "<VTKFile");
+  ASSERT_TRUE(app::load_surface((d / "a").string(), 100, &s, &note)) << note;
   EXPECT_EQ(s.time, 1.0);
   // No surface data: false, and the note says so.
-  EXPECT_FALSE(fig::load_surface((d / "b").string(), 1, &s, &note));
+  EXPECT_FALSE(app::load_surface((d / "b").string(), 1, &s, &note));
   EXPECT_NE(note.find("no surface data"), std::string::npos) << note;
   // Without surface.pvd the vtk/*.vtp files are scanned (time from their TimeValue).
-  fs::remove(d / "a" / fig::kSurfaceCollection);
-  ASSERT_TRUE(fig::load_surface((d / "a").string(), 0.1, &s, &note)) << note;
+  fs::remove(d / "a" / app::kSurfaceCollection);
+  ASSERT_TRUE(app::load_surface((d / "a").string(), 0.1, &s, &note)) << note;
   EXPECT_EQ(s.time, 0.0);
 }
 
@@ -315,6 +317,92 @@ TEST(FigureCommand, SteadyDeformationWithTheSmallDeformationLine) {
   fs::remove_all(d);
 }
 
+TEST(FigureCommand, PublishedSteadyStatesAndTheoryAreDrawnWhereTheyApply) {
+  // A Skalak C = 1 run in planar extension: the paper quotes steady states at Ca = 0.45 and 0.6
+  // (its own and Lac et al. 2004's), which fall inside the run's Ca range [0.15, 0.6]; its ts_D
+  // ends at Ca = 0.45, so the paper's steady D = 0.548 is drawn across it. --no-references
+  // leaves all of them out.
+  const fs::path d = fresh_dir("refs");
+  make_run(d / "sk", 0.9, false);
+  put(d / "sk" / "control.json",
+      R"({"ca": 0.45, "capsule": {"law": "skalak", "C": 1}, "flow": {"type": "planar-extension"}})");
+  const fs::path out = d / "out", bare = d / "bare";
+  ASSERT_EQ(run_capflow((d / "sk").string() + " -o " + out.string() +
+                            " --kinds timeseries,steady --no-gnuplot",
+                        d / "log.txt"),
+            0)
+      << slurp(d / "log.txt");
+  const auto D = read_dat(out / "steady_D_vs_ca.dat");
+  ASSERT_EQ(D.size(), 4u);  // the run, the small-deformation line, two published sources
+  const std::vector<std::vector<double>> paper = {{0.45, 0.548}, {0.6, 0.595}},
+                                         lac = {{0.45, 0.549}, {0.6, 0.6}};
+  EXPECT_EQ(D[2], paper);
+  EXPECT_EQ(D[3], lac);
+  EXPECT_NEAR(D[1][1][1] / D[1][1][0], 1.25 * (3 + 1.0 / 3), 1e-12);  // Ks = 1 + 2C = 3
+  const auto L = read_dat(out / "steady_half_lengths_vs_ca.dat");
+  ASSERT_EQ(L.size(), 3u);
+  EXPECT_EQ(L[1], (std::vector<std::vector<double>>{{0.45, 1.76}, {0.6, 1.90}}));
+  EXPECT_EQ(L[2], (std::vector<std::vector<double>>{{0.45, 1.78}, {0.6, 1.95}}));
+  const auto ts = read_dat(out / "ts_D.dat");
+  ASSERT_EQ(ts.size(), 2u);
+  EXPECT_EQ(ts[1], (std::vector<std::vector<double>>{{0, 0.548}, {2, 0.548}}));
+  const std::string gp = slurp(out / "steady_D_vs_ca.gp");
+  EXPECT_NE(gp.find("'Dodson \\& Dimitrakopoulos (SBE)'"), std::string::npos)
+      << gp;  // \\& prints & in enhanced text
+
+  ASSERT_EQ(run_capflow((d / "sk").string() + " -o " + bare.string() +
+                            " --kinds timeseries,steady --no-gnuplot --no-references",
+                        d / "log2.txt"),
+            0)
+      << slurp(d / "log2.txt");
+  EXPECT_EQ(read_dat(bare / "steady_D_vs_ca.dat").size(), 1u);
+  EXPECT_EQ(read_dat(bare / "steady_half_lengths_vs_ca.dat").size(), 1u);
+  EXPECT_EQ(read_dat(bare / "ts_D.dat").size(), 1u);
+  fs::remove_all(d);
+}
+
+TEST(FigureCommand, AxesCarryUnitsAndTheCaptionStaysOutOfThePlot) {
+  // Every script labels both axes, draws no title (the caption is in figures.md), leaves a margin
+  // around the data; ts_D_ca stacks D(t) over Ca(t) with the run's Ca in its second block.
+  const fs::path d = fresh_dir("typo");
+  make_run(d / "a", 0.3, false);
+  const fs::path out = d / "out";
+  ASSERT_EQ(run_capflow((d / "a").string() + " -o " + out.string() +
+                            " --kinds timeseries,steady,profiles --no-gnuplot",
+                        d / "log.txt"),
+            0)
+      << slurp(d / "log.txt");
+  const std::string manifest = slurp(out / "figures.md");
+  int scripts = 0;
+  for (const auto& e : fs::directory_iterator(out)) {
+    if (e.path().extension() != ".gp") continue;
+    ++scripts;
+    const std::string gp = slurp(e.path()), name = e.path().stem().string();
+    SCOPED_TRACE(name);
+    EXPECT_EQ(gp.find("set title"), std::string::npos);
+    EXPECT_NE(gp.find("set xlabel '"), std::string::npos);
+    EXPECT_NE(gp.find("set ylabel '"), std::string::npos);
+    EXPECT_NE(gp.find("set offsets graph"), std::string::npos);
+    EXPECT_NE(manifest.find("**" + name + "**: "), std::string::npos);
+  }
+  EXPECT_GT(scripts, 15);
+  EXPECT_NE(slurp(out / "ts_D.gp").find("set xlabel '{/:Italic t} / {/:Italic G}^{−1}'"),
+            std::string::npos);
+  EXPECT_NE(slurp(out / "ts_tension.gp").find("_{max}"), std::string::npos);
+  EXPECT_NE(slurp(out / "profiles_a_z.gp").find("set size ratio -1"), std::string::npos);
+  // L, S, W: one colour each
+  const std::string lsw = slurp(out / "ts_LSW.gp");
+  for (const char* c : {"#0072b2", "#d55e00", "#009e73"}) EXPECT_NE(lsw.find(c), std::string::npos);
+  const std::string dc = slurp(out / "ts_D_ca.gp");
+  EXPECT_NE(dc.find("set multiplot layout 2,1"), std::string::npos) << dc;
+  const auto dat = read_dat(out / "ts_D_ca.dat");
+  ASSERT_EQ(dat.size(), 2u);
+  const fig::Table ts = fig::read_csv((d / "a" / "timeseries.csv").string());
+  ASSERT_EQ(static_cast<long>(dat[1].size()), ts.rows());
+  for (long r = 0; r < ts.rows(); ++r) EXPECT_EQ(dat[1][r][1], ts.num(r, ts.col("ca")));
+  fs::remove_all(d);
+}
+
 TEST(FigureCommand, EveryKindFromTwoRunsWithMatchingSidecars) {
   if (!gnuplot_available()) GTEST_SKIP() << "gnuplot not installed (apt-get install gnuplot-nox)";
   const fs::path d = fresh_dir("all");
@@ -329,7 +417,7 @@ TEST(FigureCommand, EveryKindFromTwoRunsWithMatchingSidecars) {
                                           "ts_LSW",
                                           "ts_edge_curvature",
                                           "ts_tension",
-                                          "ts_ca",
+                                          "ts_D_ca",
                                           "ts_volume_drift",
                                           "profiles_skalak_z",
                                           "profiles_skalak_y",

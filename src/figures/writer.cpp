@@ -1,0 +1,127 @@
+// capflow/figures/writer: see writer.h.
+#include "figures/writer.h"
+
+#include <algorithm>
+#include <cstdlib>
+#include <fstream>
+#include <iostream>
+#include <stdexcept>
+
+#include "figures/gnuplot.h"
+
+namespace capflow::figures {
+
+namespace fs = std::filesystem;
+
+namespace {
+std::string shell_quote(const std::string& s) {
+  std::string o = "'";
+  for (char c : s) o += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return o + "'";
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream f(p);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+// Empty blocks would shift gnuplot's `index` numbering (blank lines run together): drop them and
+// renumber the series.
+void drop_empty_blocks(Figure* f) {
+  std::vector<int> index(f->blocks.size(), -1);
+  std::vector<Block> kept;
+  for (size_t b = 0; b < f->blocks.size(); ++b)
+    if (!f->blocks[b].rows.empty()) {
+      index[b] = static_cast<int>(kept.size());
+      kept.push_back(std::move(f->blocks[b]));
+    }
+  f->blocks = std::move(kept);
+  for (Panel& p : f->panels)
+    for (Series& s : p.series) s.block = index[static_cast<size_t>(s.block)];
+}
+}  // namespace
+
+bool gnuplot_on_path() {
+  return std::system("command -v gnuplot >/dev/null 2>&1") == 0;
+}
+
+void write_text(const fs::path& p, const std::string& text) {
+  std::ofstream f(p, std::ios::trunc);
+  f << text;
+  if (!f) throw std::runtime_error("cannot write " + p.string());
+}
+
+Writer::Writer(fs::path out, std::string vector_format, bool png, bool run_gnuplot)
+    : out_(std::move(out)), vector_(std::move(vector_format)), png_(png), gnuplot_(run_gnuplot) {}
+
+void Writer::note(const std::string& m) {
+  std::cerr << "figure: " << m << "\n";
+  manifest_ << "- note: " << m << "\n";
+}
+
+void Writer::record(const std::string& name, const std::string& entry) {
+  manifest_ << entry << "\n";
+  written_.push_back(name);
+}
+
+bool Writer::run_script(const Figure& f) {
+  const fs::path log = out_ / (f.name + ".gnuplot.log");
+  const std::string c = "cd " + shell_quote(out_.string()) + " && gnuplot " +
+                        shell_quote(f.name + ".gp") + " > " + shell_quote(log.filename().string()) +
+                        " 2>&1";
+  const int rc = std::system(c.c_str());
+  const fs::path vec = out_ / (f.name + "." + vector_);
+  if (rc != 0 || !fs::exists(vec) || fs::file_size(vec) == 0) {
+    note(f.name + ": gnuplot failed (exit " + std::to_string(rc) + "): " + slurp(log));
+    ++failures_;
+    return false;
+  }
+  fs::remove(log);
+  return true;
+}
+
+void Writer::emit(const Figure& fig) {
+  // Series whose block is empty would make gnuplot fail: leave them out; a panel left without
+  // series, or a figure without data, is skipped.
+  Figure f = fig;
+  const auto empty = [&](const Series& s) {
+    return f.blocks[static_cast<size_t>(s.block)].rows.empty();
+  };
+  bool data = false;
+  for (Panel& p : f.panels) {
+    p.series.erase(std::remove_if(p.series.begin(), p.series.end(), empty), p.series.end());
+    data = data || !p.series.empty();
+  }
+  f.panels.erase(std::remove_if(f.panels.begin(), f.panels.end(),
+                                [](const Panel& p) { return p.series.empty(); }),
+                 f.panels.end());
+  if (!data) {
+    note(fig.name + ": skipped, no data in any run");
+    return;
+  }
+  drop_empty_blocks(&f);
+  write_text(out_ / (f.name + ".dat"), dat_text(f));
+  write_text(out_ / (f.name + ".gp"), gp_script(f, vector_, png_));
+  std::string files = f.name + ".gp, " + f.name + ".dat";
+  if (gnuplot_ && run_script(f))
+    files += ", " + f.name + "." + vector_ + (png_ ? ", " + f.name + ".png" : "");
+  std::cerr << "figure: " << f.name << " (" << files << ")\n";
+  manifest_ << "- **" << f.name << "**: " << f.caption
+            << (f.paper.empty() ? "" : " (paper " + f.paper + ")") << ". Files: " << files << ".";
+  if (!f.sources.empty()) {
+    manifest_ << " Sources:";
+    for (const auto& s : f.sources) manifest_ << " " << s;
+    manifest_ << ".";
+  }
+  manifest_ << "\n";
+  for (const auto& n : f.notes) manifest_ << "  - " << n << "\n";
+  written_.push_back(f.name);
+}
+
+void Writer::write_manifest(const std::string& header) const {
+  write_text(out_ / "figures.md", header + manifest_.str());
+}
+
+}  // namespace capflow::figures

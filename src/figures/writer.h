@@ -1,0 +1,51 @@
+// capflow/figures/writer: writes figures into the output directory and lists them in
+// figures.md (the captions, sources and notes: what was made from what).
+//
+// Each 2-D figure becomes <name>.dat and <name>.gp; with gnuplot on the PATH the script is run
+// and makes <name>.svg or .pdf and <name>.png. A gnuplot failure is noted (its log kept as
+// <name>.gnuplot.log) and counted, not thrown: the other figures are still made.
+#pragma once
+
+#include <filesystem>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "figures/figure.h"
+
+namespace capflow::figures {
+
+bool gnuplot_on_path();
+
+class Writer {
+ public:
+  // vector_format "svg" or "pdf"; png: a PNG beside it; run_gnuplot: make the images.
+  Writer(std::filesystem::path out, std::string vector_format, bool png, bool run_gnuplot);
+
+  const std::filesystem::path& out() const { return out_; }
+  bool runs_gnuplot() const { return gnuplot_; }
+
+  void note(const std::string& message);  // to stderr and figures.md
+  void emit(const Figure& fig);           // skipped (with a note) when no series has data
+  // A figure made elsewhere (a 3-D view): its figures.md entry, counted as written.
+  void record(const std::string& name, const std::string& entry);
+
+  int failures() const { return failures_; }
+  const std::vector<std::string>& written() const { return written_; }
+  // figures.md: the header, then the entries and notes in the order they came.
+  void write_manifest(const std::string& header) const;
+
+ private:
+  bool run_script(const Figure& f);
+
+  std::filesystem::path out_;
+  std::string vector_;
+  bool png_ = true, gnuplot_ = false;
+  int failures_ = 0;
+  std::ostringstream manifest_;
+  std::vector<std::string> written_;
+};
+
+void write_text(const std::filesystem::path& p, const std::string& text);  // throws on failure
+
+}  // namespace capflow::figures
