@@ -1,0 +1,97 @@
+# cmake -DEXE=capflow -DEXAMPLE=file.json -DMODE=run|steady|sweep -DOUT=dir -DT_END=t
+#   -P run_example.cmake
+# Runs one example (MODE run: `capflow run EXAMPLE --t-end T_END`; steady: `capflow steady
+# EXAMPLE`; sweep: `capflow sweep EXAMPLE` with OUT as the working directory), checks that it
+# exits 0 and leaves what the example asks for (the run directory's files; frames and the movie
+# when its output keys ask for them; the sweep's summary), then draws its figures with
+# `capflow figure`. Fails with the command's output on the first miss.
+cmake_minimum_required(VERSION 3.19)
+
+function(run_or_fail what)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE out
+                  WORKING_DIRECTORY ${OUT})
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "${what}: exit ${rc}\n${out}")
+  endif()
+endfunction()
+
+function(expect_file path)
+  if(NOT EXISTS ${path})
+    message(FATAL_ERROR "missing: ${path}")
+  endif()
+  file(SIZE ${path} size)
+  if(size EQUAL 0)
+    message(FATAL_ERROR "empty: ${path}")
+  endif()
+endfunction()
+
+# An output key of the example (output.KEY), or DEFAULT when it does not set it.
+function(output_key key default result)
+  file(READ ${EXAMPLE} text)
+  string(JSON value ERROR_VARIABLE missing GET "${text}" output ${key})
+  if(missing)
+    set(value ${default})
+  endif()
+  set(${result} ${value} PARENT_SCOPE)
+endfunction()
+
+# The time-series file has a header and at least `rows` rows.
+function(expect_rows csv rows)
+  expect_file(${csv})
+  file(STRINGS ${csv} lines)
+  list(LENGTH lines n)
+  math(EXPR have "${n} - 1")
+  if(have LESS ${rows})
+    message(FATAL_ERROR "${csv}: ${have} rows, expected at least ${rows}")
+  endif()
+endfunction()
+
+file(REMOVE_RECURSE ${OUT})
+file(MAKE_DIRECTORY ${OUT})
+set(run ${OUT}/run)
+
+if(MODE STREQUAL "sweep")
+  run_or_fail("capflow sweep" ${EXE} sweep ${EXAMPLE} --jobs 2)
+  file(READ ${EXAMPLE} text)
+  string(JSON dir GET "${text}" output dir)
+  expect_rows(${OUT}/${dir}/sweep.csv 2)
+  file(STRINGS ${OUT}/${dir}/sweep.csv summary)
+  foreach(line IN LISTS summary)
+    if(line MATCHES "failed|interrupted|pending")
+      message(FATAL_ERROR "a case did not finish: ${line}")
+    endif()
+  endforeach()
+  run_or_fail("capflow figure" ${EXE} figure ${OUT}/${dir} -o ${OUT}/figures --kinds timeseries)
+  expect_file(${OUT}/figures/ts_D.dat)
+  return()
+endif()
+
+if(MODE STREQUAL "steady")
+  run_or_fail("capflow steady" ${EXE} steady ${EXAMPLE} -o ${run})
+  expect_rows(${run}/steady.csv 2)
+  run_or_fail("capflow figure" ${EXE} figure ${run} -o ${OUT}/figures --kinds steady)
+  expect_file(${OUT}/figures/steady_D_vs_ca.dat)
+else()
+  run_or_fail("capflow run" ${EXE} run ${EXAMPLE} -o ${run} --t-end ${T_END})
+  expect_rows(${run}/timeseries.csv 2)
+  run_or_fail("capflow figure" ${EXE} figure ${run} -o ${OUT}/figures
+              --kinds timeseries,profiles,views --width 480 --height 360)
+  expect_file(${OUT}/figures/ts_D.dat)
+  expect_file(${OUT}/figures/figures.md)
+endif()
+expect_file(${run}/control.json)
+file(GLOB checkpoints ${run}/checkpoints/*.ckpt)
+if(NOT checkpoints)
+  message(FATAL_ERROR "no checkpoint in ${run}/checkpoints")
+endif()
+output_key(mp4 ON mp4)
+if(NOT mp4 STREQUAL "OFF" AND NOT mp4 STREQUAL "false")
+  expect_file(${run}/movie.mp4)
+endif()
+output_key(png ON png)
+if(NOT png STREQUAL "OFF" AND NOT png STREQUAL "false")
+  file(GLOB frames ${run}/frames/*.png)
+  if(NOT frames)
+    message(FATAL_ERROR "no frame PNG in ${run}/frames")
+  endif()
+endif()
