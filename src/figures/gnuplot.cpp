@@ -37,6 +37,7 @@ namespace {
 std::string common_settings(const Figure& fig) {
   std::ostringstream o;
   o << "set encoding utf8\n";
+  o << "set minussign\n";  // tick labels with a true minus (U+2212)
   o << "set border lw 1.2\n";
   o << "set grid lc rgb '#d0d0d0' lw 1\n";
   o << "set tics nomirror out scale 0.6\n";

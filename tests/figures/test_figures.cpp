@@ -383,6 +383,7 @@ TEST(FigureCommand, AxesCarryUnitsAndTheCaptionStaysOutOfThePlot) {
     EXPECT_NE(gp.find("set xlabel '"), std::string::npos);
     EXPECT_NE(gp.find("set ylabel '"), std::string::npos);
     EXPECT_NE(gp.find("set offsets graph"), std::string::npos);
+    EXPECT_NE(gp.find("set minussign"), std::string::npos);
     EXPECT_NE(manifest.find("**" + name + "**: "), std::string::npos);
   }
   EXPECT_GT(scripts, 15);
