@@ -70,6 +70,12 @@ Figure overlay(const OverlaySpec& spec, const std::vector<RunTable>& data, const
   return fig;
 }
 
+bool has_rows(const Figure& fig) {
+  for (const Block& b : fig.blocks)
+    if (!b.rows.empty()) return true;
+  return false;
+}
+
 void add_panel(Figure* fig, const std::vector<RunTable>& data, const Quantity& x, const Quantity& y,
                const std::string& ylabel) {
   Panel p;

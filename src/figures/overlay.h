@@ -33,6 +33,10 @@ struct OverlaySpec {
 Figure overlay(const OverlaySpec& spec, const std::vector<RunTable>& data, const Quantity& x,
                const std::vector<Quantity>& ys);
 
+// Whether any data block has rows (before references are added to a figure: a figure of
+// references alone is not made).
+bool has_rows(const Figure& fig);
+
 // One more panel below the figure's last, drawing quantity y of the same runs against the same x
 // (their blocks gain the column): e.g. Ca(t) under D(t).
 void add_panel(Figure* fig, const std::vector<RunTable>& data, const Quantity& x, const Quantity& y,

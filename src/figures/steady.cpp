@@ -99,7 +99,7 @@ void steady_figures(Writer& w, const std::vector<RunInfo>& runs, const KindOptio
     Figure d = overlay({"steady_D_vs_ca", "Steady Taylor deformation D against Ca", "figs. 16, 17",
                         labels::capillary(), labels::deformation(), true},
                        data, ca, {column("D")});
-    if (o.references) {
+    if (o.references && has_rows(d)) {
       add_small_deformation_lines(&d, data);
       add_published(&d, data, false);
     }
@@ -113,7 +113,7 @@ void steady_figures(Writer& w, const std::vector<RunInfo>& runs, const KindOptio
       data, ca,
       {column("L", it("L")), column("S", it("S")), column("W", it("W")),
        column("Lc", it("L") + "_c")});
-  if (o.references) add_published(&half, data, true);
+  if (o.references && has_rows(half)) add_published(&half, data, true);
   w.emit(half);
   const Quantity ratio{
       "Sc_over_Wc", it("S") + "_c / " + it("W") + "_c",

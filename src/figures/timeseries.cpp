@@ -80,7 +80,7 @@ void timeseries_figures(Writer& w, const std::vector<RunInfo>& runs, const KindO
   Figure d = overlay({"ts_D", "Taylor deformation D against time", "figs. 5a, 11a", labels::time(),
                       labels::deformation()},
                      data, t, {column("D")});
-  if (o.references) add_published_steady_d(&d, data);
+  if (o.references && has_rows(d)) add_published_steady_d(&d, data);
   w.emit(d);
   w.emit(overlay({"ts_LSW", "Half-lengths L, S, W of the inertia ellipsoid against time",
                   "figs. 5, 11", labels::time(), labels::half_lengths()},
@@ -102,7 +102,7 @@ void timeseries_figures(Writer& w, const std::vector<RunInfo>& runs, const KindO
     Figure dc = overlay({"ts_D_ca",
                          "Taylor deformation D (top) and the capillary number Ca it was driven "
                          "with (bottom) against time",
-                         "steering", labels::time(), labels::deformation()},
+                         "", labels::time(), labels::deformation()},
                         data, t, {column("D")});
     add_panel(&dc, data, t, column("ca"), labels::capillary());
     w.emit(dc);
@@ -113,15 +113,15 @@ void timeseries_figures(Writer& w, const std::vector<RunInfo>& runs, const KindO
   };
   const auto drift = with("volume_drift");
   if (!drift.empty())
-    w.emit(overlay({"ts_volume_drift", "Relative volume change against time", "accuracy",
-                    labels::time(), labels::volume_drift()},
+    w.emit(overlay({"ts_volume_drift", "Relative volume change against time", "", labels::time(),
+                    labels::volume_drift()},
                    drift, t, {column("volume_drift")}));
   const auto sheared = only(with("inclination_deg"), [](const RunInfo& r) { return r.shear(); });
   if (!sheared.empty())
     w.emit(
         overlay({"ts_inclination",
                  "Inclination of the long axis to the flow direction against time (simple shear)",
-                 "shear", labels::time(), labels::inclination()},
+                 "", labels::time(), labels::inclination()},
                 sheared, t, {column("inclination_deg")}));
 }
 

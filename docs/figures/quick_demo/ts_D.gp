@@ -1,21 +1,32 @@
 # ts_D.gp: written by `capflow figure`; edit and re-run `gnuplot ts_D.gp`
-# Taylor deformation D(t) (paper figs. 5a, 11a)
+# Taylor deformation D against time (paper figs. 5a, 11a)
 # data: ts_D.dat (block i = index i)
 # source: runs/quick_demo/timeseries.csv
 set encoding utf8
-set title 'Taylor deformation D(t)' noenhanced
-set xlabel 't'
-set ylabel 'D'
-set key top left box opaque
-set grid
+set minussign
+set border lw 1.2
+set grid lc rgb '#d0d0d0' lw 1
+set tics nomirror out scale 0.6
+set xlabel '{/:Italic t} / {/:Italic G}^{−1}'
+set autoscale fix
+set offsets graph 0.03, graph 0.03, graph 0.06, graph 0.06
 dat = 'ts_D.dat'
 # vector image
-set terminal svg size 800,600 dynamic enhanced font 'Sans,14' background '#ffffff'
+set terminal svg size 800,600 dynamic enhanced font 'DejaVu Sans,14' background '#ffffff'
 set output 'ts_D.svg'
+set ylabel 'Taylor deformation {/:Italic D}'
+unset logscale y
+set key below horizontal center Left reverse samplen 2.5 spacing 1.1 width 2 noopaque nobox
 plot \
-  dat index 0 using 1:2 with lines lw 2 lc 1 dt 1 title 'quick_demo' noenhanced
+  dat index 0 using 1:2 with lines lw 2 lc rgb '#0072b2' dt 1 title 'quick\_demo', \
+  dat index 1 using 1:2 with lines lw 1.5 lc rgb '#555555' dt 2 title 'paper, steady {/:Italic D} at Ca = 0.6'
 # raster image
-set terminal pngcairo size 1000,750 enhanced font 'Sans,12'
+set terminal pngcairo size 1000,750 enhanced font 'DejaVu Sans,12' background '#ffffff'
 set output 'ts_D.png'
-replot
+set ylabel 'Taylor deformation {/:Italic D}'
+unset logscale y
+set key below horizontal center Left reverse samplen 2.5 spacing 1.1 width 2 noopaque nobox
+plot \
+  dat index 0 using 1:2 with lines lw 2 lc rgb '#0072b2' dt 1 title 'quick\_demo', \
+  dat index 1 using 1:2 with lines lw 1.5 lc rgb '#555555' dt 2 title 'paper, steady {/:Italic D} at Ca = 0.6'
 set output
