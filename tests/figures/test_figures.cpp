@@ -361,6 +361,27 @@ TEST(FigureCommand, PublishedSteadyStatesAndTheoryAreDrawnWhereTheyApply) {
   fs::remove_all(d);
 }
 
+TEST(FigureCommand, NoFigureOfReferencesAlone) {
+  // A Skalak C = 1 run that reached no steady state: steady_D_vs_ca would hold the theory line
+  // and the published values only, so it is skipped with a note.
+  const fs::path d = fresh_dir("refs_alone");
+  make_run(d / "sk", 0.9, false);
+  put(d / "sk" / "control.json",
+      R"({"ca": 0.45, "capsule": {"law": "skalak", "C": 1}, "flow": {"type": "planar-extension"}})");
+  put(d / "sk" / "steady.csv", "ca,L,S,W,Lc,Sc,Wc,D,area,edge_curvature,tau_max,tau_min\n");
+  const fs::path out = d / "out";
+  ASSERT_EQ(run_capflow((d / "sk").string() + " -o " + out.string() +
+                            " --kinds timeseries,steady --no-gnuplot",
+                        d / "log.txt"),
+            0)
+      << slurp(d / "log.txt");
+  EXPECT_FALSE(fs::exists(out / "steady_D_vs_ca.dat"));
+  EXPECT_NE(slurp(out / "figures.md").find("steady_D_vs_ca: skipped, no data in any run"),
+            std::string::npos);
+  EXPECT_TRUE(fs::exists(out / "ts_D.dat"));
+  fs::remove_all(d);
+}
+
 TEST(FigureCommand, AxesCarryUnitsAndTheCaptionStaysOutOfThePlot) {
   // Every script labels both axes, draws no title (the caption is in figures.md), leaves a margin
   // around the data; ts_D_ca stacks D(t) over Ca(t) with the run's Ca in its second block.
