@@ -36,7 +36,7 @@ QuadratureOptions resolve_defaults(const geometry::Mesh& mesh, QuadratureOptions
   // (3nb+19)/2 points integrates that exactly with ~10 points to spare for the kernel. nb + 3
   // (enough for the smooth densities of the sphere identities) left a quarter of the fig. 2b
   // steady-state volume leak and two thirds of the NH Ca=0.4 one at t=17.4
-  // (benchmarks/capsule/volume_flux --far-scale; docs/validation.md, Milestone 3).
+  // (benchmarks/capsule/volume_flux --far-scale; docs/validation.md, 9.2 "The far Gauss order").
   if (opt.nq_far <= 0) opt.nq_far = (3 * nb + 19) / 2;
   // Mid order: 2 nb + 4 left 1e-4 (relative) in SL[f] at the strongly deformed NH Ca=0.4 state
   // (NE=14 NB=10, t=17.4; benchmarks/capsule/quadrature_study), 3 nb + 2 leaves 3e-5.

@@ -6,7 +6,7 @@
 // tangents) against the strain energy of the interpolated surface along the actual trajectory,
 // through the time integration and the smoothing of every step. Neo-Hookean capsule in simple
 // shear at Ca = 0.6, the case where capflow's steady D lies ~0.02 above published codes
-// (docs/validation.md, Milestone 10): E(1) - E(0) against the time integral of INT f.u dS.
+// (docs/validation.md, 15.3 "Against published codes"): E(1) - E(0) against the time integral of INT f.u dS.
 #include <gtest/gtest.h>
 
 #include <cstdio>

@@ -84,7 +84,7 @@ TEST(PaperShort, SkalakCa035AtT015) {
 // Mechanism: the volume changes by the flux of the INTERPOLATED nodal velocities; the velocity
 // evaluated directly at the quadrature points (all quadrature orders x3) carries much less
 // (INT SL[f].n dS = 0 for any f with exact integration): the rest is the velocity's
-// interpolation error in the tip element (docs/validation.md, Milestone 3).
+// interpolation error in the tip element (docs/validation.md, 9.1 "Why the volume leaks").
 namespace {
 struct Fluxes {
   double interpolated = 0, direct = 0;  // INT u.n dS / V
