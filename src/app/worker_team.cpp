@@ -13,7 +13,7 @@ namespace capflow::app {
 
 namespace {
 
-enum Op : int { kEnd = 0, kSetUp = 1, kSingleLayer = 2 };
+enum Op : int { kEnd = 0, kSetUp = 1, kSingleLayer = 2, kDoubleLayerMatrix = 3 };
 
 int g_next_id = 0;
 bool g_ended = false;
@@ -29,6 +29,29 @@ std::vector<double> my_share(const stokes::BoundaryOperators& ops, const Eigen::
   Eigen::Matrix3Xd out(3, static_cast<long>(mine.size()));
   if (!mine.empty()) ops.single_layer(x, f, mine, out);
   return std::vector<double>(out.data(), out.data() + out.size());
+}
+
+// This rank's rows of the viscosity-ratio solve's double-layer matrix: the rows of the same
+// targets as my_share (every size-th), flattened row-major (3 share x 3 targets values).
+std::vector<double> my_rows(const capsule::Capsule& cap, const Eigen::Matrix3Xd& x, bool symmetry,
+                            int targets) {
+  std::vector<int> mine;
+  for (int k = parallel::rank(); k < targets; k += parallel::size()) mine.push_back(k);
+  if (mine.empty()) return {};
+  const stokes::RowMat rows = cap.double_layer_rows(x, symmetry, mine);
+  return std::vector<double>(rows.data(), rows.data() + rows.size());
+}
+
+// The ranks' rows gathered in rank order back in target order (3 targets x 3 targets).
+stokes::RowMat interleave_rows(const std::vector<double>& all, int targets, int size) {
+  const long n = 3L * targets;
+  stokes::RowMat out(n, n);
+  size_t at = 0;
+  for (int r = 0; r < size; ++r)
+    for (int k = r; k < targets; k += size)
+      for (int i = 0; i < 3; ++i, at += static_cast<size_t>(n))
+        out.row(3L * k + i) = Eigen::Map<const Eigen::RowVectorXd>(all.data() + at, n);
+  return out;
 }
 
 // The shares gathered in rank order back in target order (3 x targets).
@@ -72,6 +95,20 @@ void attach_team(capsule::Capsule& cap, const control::ControlOptions& options) 
     out = interleave(parallel::gather(my_share(*ops, x, f, targets)), targets.size(),
                      parallel::size());
   });
+  if (options.viscosity_ratio == 1.0) return;
+  const capsule::Capsule* c = &cap;
+  cap.set_double_layer_matrix([c, id](const Eigen::Matrix3Xd& x, bool symmetry) {
+    int o = kDoubleLayerMatrix, i = id, sym = symmetry ? 1 : 0;
+    int targets = static_cast<int>(c->symmetry_targets(symmetry));
+    std::vector<double> xs = flat(x);
+    parallel::broadcast(&o);
+    parallel::broadcast(&i);
+    parallel::broadcast(&xs);
+    parallel::broadcast(&sym);
+    parallel::broadcast(&targets);
+    return interleave_rows(parallel::gather(my_rows(*c, x, symmetry, targets)), targets,
+                           parallel::size());
+  });
 }
 
 void end_workers() {
@@ -114,6 +151,15 @@ int serve_team() {
         const auto it = built.find(id);
         if (it == built.end()) parallel::abort_all("no capsule " + std::to_string(id), 3);
         parallel::gather(my_share(it->second.cap->operators(), matrix(xs), matrix(fs), targets));
+      } else if (op == kDoubleLayerMatrix) {
+        std::vector<double> xs;
+        int sym = 1, targets = 0;
+        parallel::broadcast(&xs);
+        parallel::broadcast(&sym);
+        parallel::broadcast(&targets);
+        const auto it = built.find(id);
+        if (it == built.end()) parallel::abort_all("no capsule " + std::to_string(id), 3);
+        parallel::gather(my_rows(*it->second.cap, matrix(xs), sym != 0, targets));
       } else {
         parallel::abort_all("unknown request " + std::to_string(op), 3);
       }

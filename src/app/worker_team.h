@@ -10,8 +10,11 @@
 // bit the same for any number of ranks, and its checkpoints resume with any other number. Edits,
 // pauses, stops, checkpoint requests and signals are rank 0's: the other ranks ignore SIGINT,
 // SIGTERM and SIGHUP and end when rank 0 ends them (end_workers, on every way out of main). A
-// failure on a serving rank ends every rank (parallel::abort_all). The viscosity-ratio solve
-// (lambda != 1) is done on rank 0 alone.
+// failure on a serving rank ends every rank (parallel::abort_all).
+// At lambda != 1 the double-layer matrix of the viscosity-ratio solve is assembled the same way:
+// each rank makes the rows of its share of the targets, rank 0 gathers them and runs GMRES on
+// the matrix (a product with a 3 targets x 3 targets matrix per iteration: ~0.1 % of the
+// assembly, not worth spreading).
 #pragma once
 
 #include "capsule/capsule.h"

@@ -146,12 +146,24 @@ Eigen::Matrix3Xd Capsule::velocity_impl(const Eigen::Matrix3Xd& x, double ca,
     ut.col(k) = flow_.gradient * x.col(targets[k]) - c * sl.col(k);
   if (opt_.viscosity_ratio != 1.0) {  // ut is the lambda = 1 velocity u1
     GmresResult r;
-    ut = (use_symmetry ? *lambda_solver_ : *lambda_solver_full_).solve(x, ut, &r);
+    ViscosityRatioSolver& solver = use_symmetry ? *lambda_solver_ : *lambda_solver_full_;
+    if (dl_matrix_) {
+      const stokes::RowMat dl = dl_matrix_(x, use_symmetry);
+      ut = solver.solve(x, ut, &r, &dl);
+    } else {
+      ut = solver.solve(x, ut, &r);
+    }
     krylov_iterations_ += r.iterations;
   }
   Eigen::Matrix3Xd u;
   sym.expand(ut, &u);
   return u;
+}
+
+stokes::RowMat Capsule::double_layer_rows(const Eigen::Matrix3Xd& x, bool symmetry,
+                                          const std::vector<int>& rows) const {
+  if (!lambda_solver_) throw std::logic_error("Capsule: no double layer at viscosity_ratio 1");
+  return (symmetry ? *lambda_solver_ : *lambda_solver_full_).matrix_rows(x, rows);
 }
 
 Eigen::VectorXd Capsule::krylov_warm_start() const {

@@ -101,6 +101,19 @@ class Capsule {
   using TargetSum = std::function<void(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& f,
                                        const std::vector<int>& targets, Eigen::Matrix3Xd& out)>;
   void set_single_layer(TargetSum sum) { single_layer_ = std::move(sum); }
+  // Likewise the double-layer matrix of the viscosity-ratio solve (lambda != 1) at x, with or
+  // without symmetry: by default assembled here; an MPI run's ranks assemble shares of its rows
+  // (double_layer_rows), which must give the same matrix.
+  using MatrixAssembly = std::function<stokes::RowMat(const Eigen::Matrix3Xd& x, bool symmetry)>;
+  void set_double_layer_matrix(MatrixAssembly assemble) { dl_matrix_ = std::move(assemble); }
+  // Rows 3 k .. 3 k + 2 of that matrix for k in `rows` (indices into the targets of the
+  // symmetric or the unsymmetric map). Throws std::logic_error when viscosity_ratio is 1.
+  stokes::RowMat double_layer_rows(const Eigen::Matrix3Xd& x, bool symmetry,
+                                   const std::vector<int>& rows) const;
+  // The number of targets of the symmetric (the runs') or the unsymmetric map.
+  size_t symmetry_targets(bool symmetry) const {
+    return (symmetry ? *symmetry_ : *no_symmetry_).targets().size();
+  }
   const stokes::BoundaryOperators& operators() const { return *ops_; }
 
   // Traction jump at positions x, smoothed if options().smooth_traction.
@@ -161,7 +174,8 @@ class Capsule {
   double v0_ = 0;
   mutable long evaluations_ = 0;
   mutable long krylov_iterations_ = 0;
-  TargetSum single_layer_;  // empty: ops_
+  TargetSum single_layer_;    // empty: ops_
+  MatrixAssembly dl_matrix_;  // empty: the viscosity-ratio solvers assemble
 };
 
 // Volume enclosed by the surface x (Gauss quadrature, nq = NB + 4).

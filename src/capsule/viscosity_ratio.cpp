@@ -38,8 +38,16 @@ double ViscosityRatioSolver::kappa() const {
   return (1.0 - lambda_) / (8.0 * kPi);
 }
 
+stokes::RowMat ViscosityRatioSolver::matrix_rows(const Eigen::Matrix3Xd& x,
+                                                 const std::vector<int>& rows) const {
+  std::vector<int> targets;
+  targets.reserve(rows.size());
+  for (int k : rows) targets.push_back(sym_.targets().at(static_cast<size_t>(k)));
+  return ops_.double_layer_matrix(x, targets, &expansion_);
+}
+
 Eigen::Matrix3Xd ViscosityRatioSolver::solve(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& u1,
-                                             GmresResult* result) {
+                                             GmresResult* result, const stokes::RowMat* assembled) {
   const std::vector<int>& targets = sym_.targets();
   const int nt = static_cast<int>(targets.size());
   if (u1.cols() != nt)
@@ -49,7 +57,10 @@ Eigen::Matrix3Xd ViscosityRatioSolver::solve(const Eigen::Matrix3Xd& x, const Ei
   const int n = 3 * nt;
   if (!gmres_ || gmres_->size() != n) gmres_ = std::make_unique<Gmres>(n, options_);
   const double k = kappa();
-  const stokes::RowMat dl = ops_.double_layer_matrix(x, targets, &expansion_);
+  if (assembled && (assembled->rows() != n || assembled->cols() != n))
+    throw std::invalid_argument("ViscosityRatioSolver: an assembled matrix of the wrong size");
+  const stokes::RowMat dl =
+      assembled ? *assembled : ops_.double_layer_matrix(x, targets, &expansion_);
   const Gmres::Operator A = [&](const Eigen::VectorXd& v, Eigen::VectorXd& out) {
     out.noalias() = dl * v;
     out = v - k * out;

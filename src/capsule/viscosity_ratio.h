@@ -39,8 +39,15 @@ class ViscosityRatioSolver {
   // u at sym.targets() (3 x targets) on the surface x (3 x num_local) for the lambda = 1
   // velocity u1 at the targets. The first solve starts from u1, the next ones from the
   // previous solution. Throws std::runtime_error if GMRES does not reach the tolerance.
+  // `assembled`: the double-layer matrix at x when it was assembled elsewhere (the rows of
+  // matrix_rows from every rank of an MPI run); null: assembled here.
   Eigen::Matrix3Xd solve(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& u1,
-                         GmresResult* result = nullptr);
+                         GmresResult* result = nullptr, const stokes::RowMat* assembled = nullptr);
+
+  // Rows 3 k .. 3 k + 2 of the double-layer matrix at x for k in `rows` (indices into
+  // sym.targets()), in that order: each target's rows are the same whichever other rows are
+  // assembled with them.
+  stokes::RowMat matrix_rows(const Eigen::Matrix3Xd& x, const std::vector<int>& rows) const;
 
   // The warm start of the next solve (empty: start from u1), e.g. kept in a checkpoint so that a
   // resumed run continues bit for bit; set_warm_start checks its size (0 or 3 x targets).
