@@ -6,69 +6,14 @@
 // rather than a kill.
 // Exit codes (app/errors.h): 0 done, 2 invalid input, 3 internal error, 4 the simulation
 // failed, 5 a run file could not be written.
-#include <atomic>
-#include <csignal>
-#include <iostream>
 #include <memory>
 #include <string>
 
 #include "app/commands.h"
-#include "app/simulation.h"
-#include "app/stop_signal.h"
-#include "control/control_file.h"
+#include "app/run_command.h"
 
 namespace capflow::app {
 namespace {
-
-struct RunArgs {
-  std::string control;
-  std::string output_dir;
-  std::string resume;
-  bool overwrite = false;
-  double t_end = -1;
-};
-
-std::unique_ptr<Simulation> resume_run(const RunArgs& a) {
-  if (!a.control.empty() || !a.output_dir.empty() || a.overwrite)
-    throw UserError(
-        "--resume RUN_DIR takes no control file, --output or --overwrite: the run "
-        "directory holds its control (edit its watched control file to steer)");
-  ResumeOverrides ov;
-  if (a.t_end > 0) ov.t_end = a.t_end;
-  try {
-    return Simulation::resume(a.resume, ov);
-  } catch (const UserError& e) {
-    throw UserError(std::string("cannot resume: ") + e.what());
-  }
-}
-
-std::unique_ptr<Simulation> new_run(const RunArgs& a) {
-  if (a.control.empty())
-    throw UserError("give a control file (capflow run CONTROL.json) or --resume RUN_DIR");
-  control::ParsedControl parsed;
-  try {
-    parsed = control::load_control_file(a.control);
-  } catch (const control::ControlError& e) {
-    throw UserError(e.what());
-  }
-  NewRun run{parsed.options, parsed.options, a.control, a.overwrite};
-  if (!a.output_dir.empty()) run.options.output.dir = a.output_dir;
-  if (a.t_end > 0) {
-    run.options.time.t_end = a.t_end;
-    const auto issues = control::time_issues(run.options.time, 0.0);
-    if (!issues.empty())
-      throw UserError("--t-end " + std::to_string(a.t_end) + ": " + issues[0].message);
-  }
-  for (const auto& w : parsed.warnings) std::cerr << "capflow: warning: " << w.str() << "\n";
-  return std::make_unique<Simulation>(run);
-}
-
-void run_cmd(const RunArgs& a) {
-  std::signal(SIGXFSZ, SIG_IGN);
-  std::unique_ptr<Simulation> sim = a.resume.empty() ? new_run(a) : resume_run(a);
-  const RunSummary s = sim->run(install_stop_signals());
-  set_exit_code(s.exit_code());
-}
 
 void setup_run(CLI::App& root) {
   auto args = std::make_shared<RunArgs>();
@@ -94,7 +39,7 @@ void setup_run(CLI::App& root) {
       "in (0, 1e6]");
   c->add_option("--t-end", args->t_end, "End time (overrides time.t_end; with --resume: extend)")
       ->check(t_end_range);
-  c->callback([args] { run_cmd(*args); });
+  c->callback([args] { set_exit_code(run_command(*args)); });
 }
 
 }  // namespace

@@ -25,6 +25,10 @@ void setup_sweep(CLI::App& root) {
                 "Cases run side by side, each with cores / jobs OpenMP threads (default 1)")
       ->check(CLI::Range(1, 1024));
   c->add_flag("--summary", args->summary, "Rewrite sweep.csv from the case directories only");
+  c->add_option("--ranks-per-case", args->ranks_per_case,
+                "Under mpirun -np N (N a multiple of G): each case runs on a group of G ranks, "
+                "N / G cases side by side (default 1: one case per rank, no MPI)")
+      ->check(CLI::Range(1, 100000));
   c->callback([args] { set_exit_code(run_sweep(*args)); });
 }
 

@@ -10,6 +10,7 @@
 //      with consistent files once the cause is removed)
 #pragma once
 
+#include <iostream>
 #include <stdexcept>
 #include <string>
 
@@ -37,5 +38,20 @@ struct UserError : std::runtime_error {
 struct OutputError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
+
+// Prints what went wrong as capflow reports it ("capflow: error: ...", "capflow: output error:
+// ...", "capflow: internal error: ...") and returns the matching exit code.
+inline int report_failure(const std::exception& e) {
+  if (dynamic_cast<const UserError*>(&e)) {
+    std::cerr << "capflow: error: " << e.what() << "\n";
+    return exit_code::kUserError;
+  }
+  if (dynamic_cast<const OutputError*>(&e)) {
+    std::cerr << "capflow: output error: " << e.what() << "\n";
+    return exit_code::kOutputFailed;
+  }
+  std::cerr << "capflow: internal error: " << e.what() << "\n";
+  return exit_code::kInternal;
+}
 
 }  // namespace capflow::app

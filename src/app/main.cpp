@@ -78,15 +78,8 @@ int main(int argc, char** argv) {
     // --help / --version exit 0; every command-line error is "invalid input" (2), as documented.
     const int code = app.exit(e);
     return code == 0 ? 0 : exit_code::kUserError;
-  } catch (const UserError& e) {
-    std::cerr << "capflow: error: " << e.what() << "\n";
-    return exit_code::kUserError;
-  } catch (const OutputError& e) {
-    std::cerr << "capflow: output error: " << e.what() << "\n";
-    return exit_code::kOutputFailed;
   } catch (const std::exception& e) {
-    std::cerr << "capflow: internal error: " << e.what() << "\n";
-    return exit_code::kInternal;
+    return report_failure(e);
   }
   return g_exit_code;
 }

@@ -36,6 +36,7 @@
 #include "geometry/surface.h"
 #include "membrane/membrane.h"
 #include "output/vtk.h"
+#include "parallel/team.h"
 #include "render/render_thread.h"
 #include "render/snapshot.h"
 
@@ -563,9 +564,9 @@ struct Simulation::Impl {
       << " NB=" << o.mesh.nb << ", dt="
       << (o.time.adaptive ? "auto (tolerance " + fixed_or_sci(o.time.tolerance) + ")"
                           : fixed_or_sci(o.time.dt))
-      << ", t_end=" << o.time.t_end << ", " << omp_get_max_threads()
-      << " threads, symmetry targets " << cap->symmetry().targets().size() << "/"
-      << mesh->num_unique();
+      << ", t_end=" << o.time.t_end << ", " << omp_get_max_threads() << " threads"
+      << (parallel::size() > 1 ? " x " + std::to_string(parallel::size()) + " MPI ranks" : "")
+      << ", symmetry targets " << cap->symmetry().targets().size() << "/" << mesh->num_unique();
     if (o.numerics.quadrature_scale != 1.0)
       m << ", quadrature orders x" << o.numerics.quadrature_scale;
     m << " -> " << dir->path().string();

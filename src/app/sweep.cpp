@@ -21,11 +21,14 @@
 #include <vector>
 
 #include "app/errors.h"
+#include "app/run_command.h"
 #include "app/run_directory.h"
 #include "app/stop_signal.h"
+#include "app/worker_team.h"
 #include "control/control_error.h"
 #include "control/run_events.h"
 #include "control/sweep.h"
+#include "parallel/team.h"
 
 extern char** environ;
 
@@ -146,7 +149,8 @@ pid_t start_child(const std::vector<std::string>& args, const fs::path& log, int
   // and without the MPI launcher's variables: a case is one process (under them `capflow run`
   // would join the launcher's job as one of its ranks)
   const auto launcher = [](const char* e) {
-    for (const char* p : {"OMPI_", "PMIX_", "PMI_", "MPI_LOCALNRANKS", "MPI_LOCALRANKID"})
+    for (const char* p :
+         {"OMPI_", "PMIX_", "PMI_", "MPI_LOCALNRANKS", "MPI_LOCALRANKID", "SLURM_STEP_NUM_TASKS"})
       if (std::strncmp(e, p, std::strlen(p)) == 0) return true;
     return false;
   };
@@ -283,9 +287,82 @@ Share launcher_share() {
   return {};
 }
 
+// The console (stdout and stderr) appended to a file while it lives: a case run in this process
+// writes its lines to its case_NNN.log as a child process would.
+class ConsoleTo {
+ public:
+  explicit ConsoleTo(const fs::path& log) {
+    std::cout.flush();
+    std::cerr.flush();
+    std::fflush(nullptr);
+    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+    if (fd < 0) throw OutputError("cannot write " + log.string() + ": " + std::strerror(errno));
+    out_ = ::dup(1);
+    err_ = ::dup(2);
+    ::dup2(fd, 1);
+    ::dup2(fd, 2);
+    ::close(fd);
+  }
+  ~ConsoleTo() {
+    std::cout.flush();
+    std::cerr.flush();
+    std::fflush(nullptr);
+    ::dup2(out_, 1);
+    ::dup2(err_, 2);
+    ::close(out_);
+    ::close(err_);
+  }
+  ConsoleTo(const ConsoleTo&) = delete;
+  ConsoleTo& operator=(const ConsoleTo&) = delete;
+
+ private:
+  int out_ = -1, err_ = -1;
+};
+
+// The `capflow run` arguments that continue case c (case_command's, for a run in this process).
+RunArgs case_run_args(const control::SweepPlan& plan, const control::SweepCase& c,
+                      const CaseState& state) {
+  const std::vector<std::string> cmd = case_command("capflow", plan, c, state);
+  RunArgs r;
+  if (cmd[2] == "--resume") {
+    r.resume = cmd[3];
+  } else {
+    r.control = cmd[2];
+    r.output_dir = cmd[4];
+    r.overwrite = true;
+  }
+  return r;
+}
+
+// --ranks-per-case G: the launcher's ranks in groups of G (parallel::split). Throws UserError
+// (on every rank alike) unless MPI was started with a multiple of G ranks.
+void form_groups(const SweepArgs& a) {
+  const int g = a.ranks_per_case;
+  if (a.jobs > 1) throw UserError("--ranks-per-case and --jobs: give one of them");
+  if (a.slurm || a.summary || a.only_case >= 0)
+    throw UserError(
+        "--ranks-per-case runs the sweep under mpirun; not with --slurm, --summary "
+        "or --case");
+  if (!parallel::built_with_mpi())
+    throw UserError("--ranks-per-case " + std::to_string(g) +
+                    ": this capflow was built without MPI (install libopenmpi-dev and rebuild)");
+  parallel::start(nullptr, nullptr);
+  if (parallel::size() < g || !parallel::split(g))
+    throw UserError("--ranks-per-case " + std::to_string(g) +
+                    ": needs mpirun -np N with N a "
+                    "multiple of " +
+                    std::to_string(g) + " (this sweep has " + std::to_string(parallel::size()) +
+                    " rank" + (parallel::size() == 1 ? "" : "s") + ")");
+}
+
 }  // namespace
 
 int run_sweep(const SweepArgs& a) {
+  if (a.ranks_per_case > 1) {
+    form_groups(a);
+    // the group's other ranks share the velocity evaluations of its cases until it ends
+    if (parallel::rank() > 0) return serve_team();
+  }
   control::SweepPlan plan;
   try {
     plan = control::load_sweep_file(a.file);
@@ -325,8 +402,12 @@ int run_sweep(const SweepArgs& a) {
   std::vector<Running> running;
   int failed = 0, output_failed = 0;
   bool forwarded = false;
-  const Share share = a.only_case >= 0 ? Share{} : launcher_share();
-  const std::string who = share.size > 1 ? "sweep [rank " + std::to_string(share.rank) + "/" +
+  const bool groups = a.ranks_per_case > 1;
+  const Share share = a.only_case >= 0 ? Share{}
+                      : groups         ? Share{parallel::group(), parallel::groups()}
+                                       : launcher_share();
+  const std::string who = share.size > 1 ? "sweep [" + std::string(groups ? "group " : "rank ") +
+                                               std::to_string(share.rank) + "/" +
                                                std::to_string(share.size) + "]: "
                                          : "sweep: ";
   const auto prefix = [&](const control::SweepCase& c) {
@@ -386,11 +467,25 @@ int run_sweep(const SweepArgs& a) {
       continue;
     }
     const bool resume = before.status == Status::Interrupted && before.has_checkpoint;
-    std::cout << prefix(c) << (resume ? "resuming" : "running") << "\n" << std::flush;
+    std::cout << prefix(c) << (resume ? "resuming" : "running")
+              << (groups ? " on " + std::to_string(parallel::size()) + " ranks" : "") << "\n"
+              << std::flush;
+    if (groups) {  // in this process, the group's other ranks serving it
+      const Running r{0, &c, std::chrono::steady_clock::now()};
+      reset_workers();
+      int code = exit_code::kInternal;
+      {
+        const ConsoleTo log(fs::path(plan.dir) / (c.name + ".log"));
+        code = run_command(case_run_args(plan, c, before));
+      }
+      finished(r, code);
+      continue;
+    }
     running.push_back({start_child(case_command(exe, plan, c, before),
                                    fs::path(plan.dir) / (c.name + ".log"), threads),
                        &c, std::chrono::steady_clock::now()});
   }
+  if (groups) end_workers();
   wait_until(0);
   if (a.only_case < 0) write_summary(plan, &known);
   if (stop->load())

@@ -19,11 +19,16 @@
 // Under an MPI launcher (`mpirun -np R capflow sweep ...`, or srun) each of the R processes runs
 // the cases with index % R == its rank (the rank from the launcher's environment; the cases do
 // not communicate); each rewrites sweep.csv after its cases, so the last one to finish leaves
-// the complete summary. --jobs N runs N cases side by side, each with (cores / N) OpenMP threads
-// unless OMP_NUM_THREADS is set. Each child runs in its own process group: the first
-// SIGINT/SIGTERM/SIGHUP of the sweep is passed to the running cases as one SIGTERM each (they
-// checkpoint and stop), and no further case starts. Only `capflow run` controls are swept (not
-// `capflow steady` ones).
+// the complete summary. With --ranks-per-case G the R ranks (R a multiple of G) start MPI and
+// form R / G groups of G consecutive ranks (parallel::split); group g runs the cases with
+// index % (R / G) == g one after another, each in the group's processes as `capflow run` runs
+// under mpirun (app/run_command.h, app/worker_team.h: the group's first rank drives the run, its
+// console output appended to case_NNN.log; the others share its velocity evaluations), so a
+// case's results are those of a run on G ranks, bit for bit those of one process. --jobs N runs N
+// cases side by side, each with (cores / N) OpenMP threads unless OMP_NUM_THREADS is set. Each
+// child runs in its own process group: the first SIGINT/SIGTERM/SIGHUP of the sweep is passed to
+// the running cases as one SIGTERM each (they checkpoint and stop), and no further case starts.
+// Only `capflow run` controls are swept (not `capflow steady` ones).
 #pragma once
 
 #include <string>
@@ -31,11 +36,12 @@
 namespace capflow::app {
 
 struct SweepArgs {
-  std::string file;      // the sweep file
-  int only_case = -1;    // >= 0: run this case only, leave sweep.csv alone (Slurm array tasks)
-  bool slurm = false;    // write the case files and sweep.sbatch, run nothing
-  bool summary = false;  // rewrite sweep.csv from the case directories, run nothing
-  int jobs = 1;          // cases side by side (each with cores / jobs OpenMP threads)
+  std::string file;        // the sweep file
+  int only_case = -1;      // >= 0: run this case only, leave sweep.csv alone (Slurm array tasks)
+  bool slurm = false;      // write the case files and sweep.sbatch, run nothing
+  bool summary = false;    // rewrite sweep.csv from the case directories, run nothing
+  int jobs = 1;            // cases side by side (each with cores / jobs OpenMP threads)
+  int ranks_per_case = 1;  // > 1: under an MPI launcher, each case runs on a group of this many
 };
 
 // Runs the sweep; returns the exit code (0 every case done, 4 some case failed, 5 an output

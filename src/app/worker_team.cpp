@@ -13,7 +13,7 @@ namespace capflow::app {
 
 namespace {
 
-enum Op : int { kEnd = 0, kSetUp = 1, kSingleLayer = 2, kDoubleLayerMatrix = 3 };
+enum Op : int { kEnd = 0, kSetUp = 1, kSingleLayer = 2, kDoubleLayerMatrix = 3, kReset = 4 };
 
 int g_next_id = 0;
 bool g_ended = false;
@@ -111,6 +111,13 @@ void attach_team(capsule::Capsule& cap, const control::ControlOptions& options) 
   });
 }
 
+void reset_workers() {
+  if (parallel::size() <= 1 || parallel::rank() != 0 || g_ended) return;
+  int op = kReset, id = 0;
+  parallel::broadcast(&op);
+  parallel::broadcast(&id);
+}
+
 void end_workers() {
   if (parallel::size() <= 1 || parallel::rank() != 0 || g_ended) return;
   g_ended = true;
@@ -151,6 +158,8 @@ int serve_team() {
         const auto it = built.find(id);
         if (it == built.end()) parallel::abort_all("no capsule " + std::to_string(id), 3);
         parallel::gather(my_share(it->second.cap->operators(), matrix(xs), matrix(fs), targets));
+      } else if (op == kReset) {
+        built.clear();
       } else if (op == kDoubleLayerMatrix) {
         std::vector<double> xs;
         int sym = 1, targets = 0;

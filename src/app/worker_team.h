@@ -26,6 +26,10 @@ namespace capflow::app {
 // team of one). The capsule must outlive its use.
 void attach_team(capsule::Capsule& cap, const control::ControlOptions& options);
 
+// Rank 0: the other ranks drop the capsules built so far (a sweep's group between its cases:
+// the next case builds its own; nothing for a team of one).
+void reset_workers();
+
 // Rank 0: ends the other ranks' service (once; nothing for a team of one).
 void end_workers();
 

@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <string>
 
 #ifdef CAPFLOW_HAVE_MPI
 #include <mpi.h>
@@ -11,11 +12,16 @@ namespace capflow::parallel {
 
 namespace {
 bool g_started = false;
-int g_rank = 0, g_size = 1;
+int g_rank = 0, g_size = 1;     // in the team (the world, or this rank's group)
+int g_group = 0, g_groups = 1;  // split(): which group, how many
+#ifdef CAPFLOW_HAVE_MPI
+MPI_Comm g_comm = MPI_COMM_WORLD;  // the team's communicator
+#endif
 
-// The launcher's rank count, from its environment (Open MPI, MPICH/PMI): 1 when not launched.
+// The launcher's rank count, from its environment (Open MPI's mpirun, MPICH/PMI, a Slurm job
+// step: srun): 1 when not launched.
 int launched_size() {
-  for (const char* k : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"})
+  for (const char* k : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "SLURM_STEP_NUM_TASKS"})
     if (const char* v = std::getenv(k)) return std::atoi(v);
   return 1;
 }
@@ -34,8 +40,9 @@ void start(int* argc, char*** argv) {
   if (g_started || launched_size() <= 1) return;
   int provided = 0;
   MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided);
-  MPI_Comm_rank(MPI_COMM_WORLD, &g_rank);
-  MPI_Comm_size(MPI_COMM_WORLD, &g_size);
+  g_comm = MPI_COMM_WORLD;
+  MPI_Comm_rank(g_comm, &g_rank);
+  MPI_Comm_size(g_comm, &g_size);
   g_started = true;
 #else
   (void)argc;
@@ -45,9 +52,35 @@ void start(int* argc, char*** argv) {
 
 void finish() {
 #ifdef CAPFLOW_HAVE_MPI
-  if (g_started) MPI_Finalize();
+  if (g_started) {
+    if (g_comm != MPI_COMM_WORLD) MPI_Comm_free(&g_comm);
+    MPI_Finalize();
+  }
+  g_comm = MPI_COMM_WORLD;
 #endif
   g_started = false;
+}
+
+bool split(int group_size) {
+  if (group_size < 1 || g_size % group_size != 0) return false;
+#ifdef CAPFLOW_HAVE_MPI
+  if (g_started && group_size < g_size) {
+    const int world_rank = g_rank;
+    g_group = world_rank / group_size;
+    g_groups = g_size / group_size;
+    MPI_Comm_split(MPI_COMM_WORLD, g_group, world_rank, &g_comm);
+    MPI_Comm_rank(g_comm, &g_rank);
+    MPI_Comm_size(g_comm, &g_size);
+  }
+#endif
+  return true;
+}
+
+int group() {
+  return g_group;
+}
+int groups() {
+  return g_groups;
 }
 
 int rank() {
@@ -59,7 +92,7 @@ int size() {
 
 void broadcast(int* v) {
 #ifdef CAPFLOW_HAVE_MPI
-  if (g_started) MPI_Bcast(v, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  if (g_started) MPI_Bcast(v, 1, MPI_INT, 0, g_comm);
 #else
   (void)v;
 #endif
@@ -74,7 +107,7 @@ void broadcast_sized(C* c) {
   c->resize(static_cast<size_t>(n));
 #ifdef CAPFLOW_HAVE_MPI
   if (g_started && n > 0)
-    MPI_Bcast(c->data(), n * static_cast<int>(sizeof((*c)[0])), MPI_BYTE, 0, MPI_COMM_WORLD);
+    MPI_Bcast(c->data(), n * static_cast<int>(sizeof((*c)[0])), MPI_BYTE, 0, g_comm);
 #endif
 }
 }  // namespace
@@ -94,7 +127,7 @@ std::vector<double> gather(const std::vector<double>& mine) {
   if (g_started) {
     int n = static_cast<int>(mine.size());
     std::vector<int> counts(static_cast<size_t>(g_size)), offsets(static_cast<size_t>(g_size));
-    MPI_Gather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+    MPI_Gather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, g_comm);
     std::vector<double> all;
     if (g_rank == 0) {
       int total = 0;
@@ -105,7 +138,7 @@ std::vector<double> gather(const std::vector<double>& mine) {
       all.resize(static_cast<size_t>(total));
     }
     MPI_Gatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), offsets.data(), MPI_DOUBLE,
-                0, MPI_COMM_WORLD);
+                0, g_comm);
     return all;
   }
 #endif
@@ -113,7 +146,8 @@ std::vector<double> gather(const std::vector<double>& mine) {
 }
 
 void abort_all(const std::string& why, int code) {
-  std::fprintf(stderr, "capflow: rank %d: %s\n", g_rank, why.c_str());
+  std::fprintf(stderr, "capflow: rank %d%s: %s\n", g_rank,
+               g_groups > 1 ? (" of group " + std::to_string(g_group)).c_str() : "", why.c_str());
 #ifdef CAPFLOW_HAVE_MPI
   if (g_started) MPI_Abort(MPI_COMM_WORLD, code);
 #endif

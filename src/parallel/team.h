@@ -12,8 +12,18 @@ namespace capflow::parallel {
 
 void start(int* argc, char*** argv);
 void finish();  // MPI_Finalize if start() initialised MPI
+// This process's rank in the team and the team's size (the world, or this rank's group after
+// split).
 int rank();
 int size();
+
+// Splits the world into groups of group_size consecutive ranks (ranks g * group_size ..
+// (g + 1) * group_size - 1 form group g), each then a team of its own: rank(), size(), the
+// broadcasts and gathers below are the group's. False (nothing changed) unless group_size
+// divides size(). Call once, after start(). A sweep's cases run side by side, one per group.
+bool split(int group_size);
+int group();   // this rank's group (0 before a split)
+int groups();  // the number of groups (1 before a split)
 bool built_with_mpi();
 
 // From rank 0 to every rank (the others' values are replaced).
@@ -25,7 +35,7 @@ void broadcast(std::vector<int>* v);
 // Every rank's block to rank 0, concatenated in rank order (the others get an empty vector).
 std::vector<double> gather(const std::vector<double>& mine);
 
-// Ends every rank with `code` after printing why (from any rank).
+// Ends every rank of the world with `code` after printing why (from any rank).
 [[noreturn]] void abort_all(const std::string& why, int code);
 
 }  // namespace capflow::parallel

@@ -188,3 +188,62 @@ TEST(Mpi, ACheckpointOfTwoRanksResumesWithThree) {
             without(d / "whole" / "timeseries.csv", "wall_s"));
   fs::remove_all(d);
 }
+
+TEST(Mpi, ASweepRunsEachCaseOnAGroupOfRanks) {
+  // mpirun -np 4 capflow sweep --ranks-per-case 2: two groups of two ranks, each running its
+  // cases (index % 2 == group) on both of its ranks; every case as a one-process sweep makes it,
+  // bit for bit; run again it does nothing; 3 ranks cannot form groups of 2 (exit 2).
+  if (!have_mpirun()) GTEST_SKIP() << "no MPI build or no mpirun (scripts/setup installs them)";
+  const fs::path d = test::fresh_dir("mpi_sweep");
+  const std::string sweep = R"({"base": {"capsule": {"law": "skalak", "C": 1},
+    "mesh": {"elements": 6, "nb": 6}, "flow": {"type": "planar-extension"}, "ca": 0.3,
+    "time": {"t_end": 0.1}, "output": {"png": false, "mp4": false, "csv_every": 0.01}},
+    "vary": {"ca": [0.3, 0.45], "capsule.C": [1, 3]}, "output": {"dir": "DIR"}})";
+  const auto sweep_file = [&](const std::string& name) {
+    std::string s = sweep;
+    s.replace(s.find("DIR"), 3, (d / name).string());
+    test::write_file(d / (name + ".json"), s);
+    return (d / (name + ".json")).string();
+  };
+  const std::string plain = sweep_file("plain"), grouped = sweep_file("grouped");
+  // the sweep's report is on stdout: into the log with stderr
+  const auto both = [](std::vector<std::string> args) {
+    args.insert(args.begin(), {"/bin/sh", "-c", "exec \"$@\" 1>&2", "sh"});
+    return args;
+  };
+  ASSERT_EQ(test::run_capflow({CAPFLOW_EXE, "sweep", plain}, d / "log_plain", 300), 0)
+      << test::read_file(d / "log_plain");
+  ASSERT_EQ(test::run_capflow(both(mpirun(4, {"sweep", grouped, "--ranks-per-case", "2"})),
+                              d / "log_grouped", 300),
+            0)
+      << test::read_file(d / "log_grouped");
+  for (const char* c : {"case_000", "case_001", "case_002", "case_003"}) {
+    SCOPED_TRACE(c);
+    const auto one = without(d / "plain" / c / "timeseries.csv", "wall_s");
+    EXPECT_GT(one.size(), 5u);
+    EXPECT_EQ(without(d / "grouped" / c / "timeseries.csv", "wall_s"), one);
+    EXPECT_NE(test::read_file(d / "grouped" / (std::string(c) + ".log")).find("x 2 MPI ranks"),
+              std::string::npos);
+  }
+  const std::string log = test::read_file(d / "log_grouped");
+  EXPECT_NE(log.find("sweep [group 0/2]: case_000"), std::string::npos) << log;
+  EXPECT_NE(log.find("sweep [group 1/2]: case_001"), std::string::npos) << log;
+  const std::string summary = test::read_file(d / "grouped" / "sweep.csv");
+  EXPECT_EQ(test::csv_rows(d / "grouped" / "sweep.csv"), 4);
+  EXPECT_EQ(summary.find(",new,"), std::string::npos) << summary;
+
+  ASSERT_EQ(test::run_capflow(both(mpirun(4, {"sweep", grouped, "--ranks-per-case", "2"})),
+                              d / "log_again", 300),
+            0)
+      << test::read_file(d / "log_again");
+  const std::string again = test::read_file(d / "log_again");
+  EXPECT_EQ(again.find("running"), std::string::npos) << again;
+  EXPECT_NE(again.find("done before, skipped"), std::string::npos) << again;
+  EXPECT_EQ(test::read_file(d / "grouped" / "sweep.csv"), summary);
+
+  EXPECT_EQ(test::run_capflow(mpirun(3, {"sweep", grouped, "--ranks-per-case", "2"}),
+                              d / "log_three", 300),
+            2);
+  EXPECT_NE(test::read_file(d / "log_three").find("a multiple of 2"), std::string::npos);
+  fs::remove_all(d);
+}
