@@ -175,15 +175,27 @@ int exit_code_of(int status) {
   return 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
 }
 
-// The command that continues case c: resume an interrupted run that has a checkpoint, else start
-// it afresh.
-std::vector<std::string> case_command(const std::string& exe, const control::SweepPlan& plan,
-                                      const control::SweepCase& c, const CaseState& state) {
+// What continues case c: resume an interrupted run that has a checkpoint, else start it afresh.
+RunArgs case_run_args(const control::SweepPlan& plan, const control::SweepCase& c,
+                      const CaseState& state) {
   const fs::path run = fs::path(plan.dir) / c.name;
-  if (state.status == Status::Interrupted && state.has_checkpoint)
-    return {exe, "run", "--resume", run.string()};
-  return {exe,  "run",        (fs::path(plan.dir) / (c.name + ".json")).string(),
-          "-o", run.string(), "--overwrite"};
+  RunArgs r;
+  if (state.status == Status::Interrupted && state.has_checkpoint) {
+    r.resume = run.string();
+  } else {
+    r.control = (fs::path(plan.dir) / (c.name + ".json")).string();
+    r.output_dir = run.string();
+    r.overwrite = true;
+  }
+  return r;
+}
+
+// The same as the command line of a `capflow run` child process.
+std::vector<std::string> run_command_line(const std::string& exe, const RunArgs& r) {
+  if (!r.resume.empty()) return {exe, "run", "--resume", r.resume};
+  std::vector<std::string> v{exe, "run", r.control, "-o", r.output_dir};
+  if (r.overwrite) v.push_back("--overwrite");
+  return v;
 }
 
 std::string csv_field(const std::string& s) {
@@ -318,21 +330,6 @@ class ConsoleTo {
  private:
   int out_ = -1, err_ = -1;
 };
-
-// The `capflow run` arguments that continue case c (case_command's, for a run in this process).
-RunArgs case_run_args(const control::SweepPlan& plan, const control::SweepCase& c,
-                      const CaseState& state) {
-  const std::vector<std::string> cmd = case_command("capflow", plan, c, state);
-  RunArgs r;
-  if (cmd[2] == "--resume") {
-    r.resume = cmd[3];
-  } else {
-    r.control = cmd[2];
-    r.output_dir = cmd[4];
-    r.overwrite = true;
-  }
-  return r;
-}
 
 // --ranks-per-case G: the launcher's ranks in groups of G (parallel::split). Throws UserError
 // (on every rank alike) unless MPI was started with a multiple of G ranks.
@@ -481,7 +478,7 @@ int run_sweep(const SweepArgs& a) {
       finished(r, code);
       continue;
     }
-    running.push_back({start_child(case_command(exe, plan, c, before),
+    running.push_back({start_child(run_command_line(exe, case_run_args(plan, c, before)),
                                    fs::path(plan.dir) / (c.name + ".log"), threads),
                        &c, std::chrono::steady_clock::now()});
   }
