@@ -1,6 +1,7 @@
 // capflow/figures/timeseries: the time-series kinds (kinds.h), from each run's timeseries.csv.
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <stdexcept>
 
 #include "figures/format.h"
@@ -37,6 +38,9 @@ std::vector<RunTable> load_run_tables(Writer& w, const std::vector<RunInfo>& run
 }
 
 namespace {
+
+// Below this Taylor deformation the long axis (the inclination) is not defined to plot.
+constexpr double kRoundShape = 1e-3;
 
 template <class Keep>
 std::vector<RunTable> only(const std::vector<RunTable>& data, Keep keep) {
@@ -116,13 +120,21 @@ void timeseries_figures(Writer& w, const std::vector<RunInfo>& runs, const KindO
     w.emit(overlay({"ts_volume_drift", "Relative volume change against time", "", labels::time(),
                     labels::volume_drift()},
                    drift, t, {column("volume_drift")}));
-  const auto sheared = only(with("inclination_deg"), [](const RunInfo& r) { return r.shear(); });
+  const auto sheared =
+      only(load_run_tables(w, runs, "timeseries.csv", {"t", "D", "inclination_deg"}),
+           [](const RunInfo& r) { return r.shear(); });
+  // a nearly spherical shape has no long axis: its rows (the start from rest) are left out
+  const Quantity inclination{"inclination_deg", it("θ"), [](const Table& tb, long r) {
+                               return std::abs(tb.num(r, tb.col("D"))) < kRoundShape
+                                          ? std::numeric_limits<double>::quiet_NaN()
+                                          : tb.num(r, tb.col("inclination_deg"));
+                             }};
   if (!sheared.empty())
     w.emit(
         overlay({"ts_inclination",
                  "Inclination of the long axis to the flow direction against time (simple shear)",
                  "", labels::time(), labels::inclination()},
-                sheared, t, {column("inclination_deg")}));
+                sheared, t, {inclination}));
 }
 
 }  // namespace capflow::figures

@@ -262,8 +262,16 @@ TEST(FigureCommand, ShearRunsGetTheInclinationAndNoTipCurvature) {
                 d / "log.txt"),
             0)
       << slurp(d / "log.txt");
-  EXPECT_TRUE(fs::exists(out / "ts_inclination.dat"));
   EXPECT_FALSE(fs::exists(out / "ts_edge_curvature.dat"));
+  // the inclination from the first row with a long axis (D >= 1e-3): not at t = 0 (the sphere)
+  const auto incl = read_dat(out / "ts_inclination.dat");
+  ASSERT_EQ(incl.size(), 1u);
+  const fig::Table ts = fig::read_csv((d / "shear" / "timeseries.csv").string());
+  long first = 0;
+  while (first < ts.rows() && ts.num(first, ts.col("D")) < 1e-3) ++first;
+  ASSERT_GT(first, 0);
+  ASSERT_EQ(static_cast<long>(incl[0].size()), ts.rows() - first);
+  EXPECT_EQ(incl[0][0][0], ts.num(first, ts.col("t")));
   make_run(d / "planar", 0.3, false);
   const fs::path out2 = d / "out2";
   ASSERT_EQ(run_capflow((d / "shear").string() + " " + (d / "planar").string() + " -o " +
