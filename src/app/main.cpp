@@ -34,7 +34,8 @@ int main(int argc, char** argv) {
   // Under an MPI launcher the ranks > 0 serve rank 0's velocity evaluations (app/worker_team.h);
   // rank 0 runs the command and ends their service on every way out of main.
   // Only run and steady use the ranks this way; a sweep under a launcher deals out its cases
-  // (app/sweep.h) and every other command runs on each rank as one process.
+  // (app/sweep.h; with --ranks-per-case it starts MPI itself and its groups serve this way) and
+  // every other command runs on each rank as one process.
   const bool team_command =
       argc > 1 && (std::string(argv[1]) == "run" || std::string(argv[1]) == "steady");
   if (team_command) capflow::parallel::start(&argc, &argv);

@@ -304,30 +304,45 @@ Share launcher_share() {
 class ConsoleTo {
  public:
   explicit ConsoleTo(const fs::path& log) {
-    std::cout.flush();
-    std::cerr.flush();
-    std::fflush(nullptr);
+    flush_all();
     const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
     if (fd < 0) throw OutputError("cannot write " + log.string() + ": " + std::strerror(errno));
-    out_ = ::dup(1);
-    err_ = ::dup(2);
-    ::dup2(fd, 1);
-    ::dup2(fd, 2);
+    // the console kept aside, not inherited by what the case starts (the movie encoder)
+    out_ = ::fcntl(1, F_DUPFD_CLOEXEC, 3);
+    err_ = ::fcntl(2, F_DUPFD_CLOEXEC, 3);
+    if (out_ < 0 || err_ < 0 || ::dup2(fd, 1) < 0 || ::dup2(fd, 2) < 0) {
+      const int e = errno;
+      ::close(fd);
+      restore();
+      throw OutputError("cannot send the console to " + log.string() + ": " + std::strerror(e));
+    }
     ::close(fd);
   }
   ~ConsoleTo() {
-    std::cout.flush();
-    std::cerr.flush();
-    std::fflush(nullptr);
-    ::dup2(out_, 1);
-    ::dup2(err_, 2);
-    ::close(out_);
-    ::close(err_);
+    flush_all();
+    restore();
   }
   ConsoleTo(const ConsoleTo&) = delete;
   ConsoleTo& operator=(const ConsoleTo&) = delete;
 
  private:
+  static void flush_all() {
+    std::cout.flush();
+    std::cerr.flush();
+    std::fflush(nullptr);
+  }
+  // The console back, and the streams usable again (a full disk under the log set their error
+  // state, which would silence the sweep's own report).
+  void restore() {
+    if (out_ >= 0) ::dup2(out_, 1), ::close(out_);
+    if (err_ >= 0) ::dup2(err_, 2), ::close(err_);
+    out_ = err_ = -1;
+    std::cout.clear();
+    std::cerr.clear();
+    std::clearerr(stdout);
+    std::clearerr(stderr);
+  }
+
   int out_ = -1, err_ = -1;
 };
 
@@ -344,12 +359,13 @@ void form_groups(const SweepArgs& a) {
     throw UserError("--ranks-per-case " + std::to_string(g) +
                     ": this capflow was built without MPI (install libopenmpi-dev and rebuild)");
   parallel::start(nullptr, nullptr);
-  if (parallel::size() < g || !parallel::split(g))
-    throw UserError("--ranks-per-case " + std::to_string(g) +
-                    ": needs mpirun -np N with N a "
-                    "multiple of " +
-                    std::to_string(g) + " (this sweep has " + std::to_string(parallel::size()) +
-                    " rank" + (parallel::size() == 1 ? "" : "s") + ")");
+  if (parallel::size() < g || !parallel::split(g)) {
+    const int n = parallel::size();
+    parallel::finish();  // every rank refuses alike: nobody is left to serve or be served
+    throw UserError("--ranks-per-case " + std::to_string(g) + ": needs mpirun -np N with N a " +
+                    "multiple of " + std::to_string(g) + " (this sweep has " + std::to_string(n) +
+                    " rank" + (n == 1 ? "" : "s") + ")");
+  }
 }
 
 }  // namespace

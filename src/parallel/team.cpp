@@ -59,6 +59,8 @@ void finish() {
   g_comm = MPI_COMM_WORLD;
 #endif
   g_started = false;
+  g_rank = g_group = 0;
+  g_size = g_groups = 1;
 }
 
 bool split(int group_size) {

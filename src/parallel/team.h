@@ -1,6 +1,7 @@
 // capflow/parallel/team: the processes of one capflow run. Under an MPI launcher with N > 1 ranks
 // (mpirun -np N, srun) and a build with MPI (CAPFLOW_MPI), start() initialises MPI and every call
-// below is a collective over MPI_COMM_WORLD, made from the main thread only (MPI_THREAD_FUNNELED).
+// below is a collective over the team's communicator (MPI_COMM_WORLD, or this rank's group after
+// split()), made from the main thread only (MPI_THREAD_FUNNELED).
 // Otherwise this is a team of one: rank 0, size 1, the collectives do nothing.
 // A failed MPI call aborts every rank (MPI's default error handler).
 #pragma once
