@@ -67,7 +67,7 @@ void set_solver_threads(int threads) {
   // 0: the OpenMP default as the process started (OMP_NUM_THREADS, else all cores), taken before
   // any call changed it
   static const int initial = std::max(1, omp_get_max_threads());
-  if (threads > 0) omp_set_num_threads(threads);
+  omp_set_num_threads(threads > 0 ? threads : initial);  // 0 also undoes an earlier run's count
   g_solver_threads.store(threads > 0 ? threads : initial, std::memory_order_relaxed);
 }
 

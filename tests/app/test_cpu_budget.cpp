@@ -18,6 +18,17 @@
 namespace capflow::app {
 namespace {
 
+TEST(CpuBudget, ZeroSolverThreadsRestoresTheStartingCount) {
+  // numerics.threads of one run must not carry into the next run in the same process (a sweep's
+  // cases on a group of ranks run one after another in-process): 0 is the count the process
+  // started with
+  const int initial = omp_get_max_threads();
+  set_solver_threads(initial == 1 ? 2 : 1);
+  EXPECT_NE(omp_get_max_threads(), initial);
+  set_solver_threads(0);
+  EXPECT_EQ(omp_get_max_threads(), initial);
+}
+
 TEST(CpuBudget, BusyRendererTakesOneSolverThread) {
   const int threads = omp_get_max_threads();
   set_solver_threads(3);
