@@ -45,6 +45,11 @@ std::vector<double> my_rows(const capsule::Capsule& cap, const Eigen::Matrix3Xd&
 // The ranks' rows gathered in rank order back in target order (3 targets x 3 targets).
 stokes::RowMat interleave_rows(const std::vector<double>& all, int targets, int size) {
   const long n = 3L * targets;
+  if (static_cast<long>(all.size()) != n * n)
+    parallel::abort_all("the ranks' double-layer rows: " + std::to_string(all.size()) +
+                            " values for a " + std::to_string(n) + " x " + std::to_string(n) +
+                            " matrix",
+                        3);
   stokes::RowMat out(n, n);
   size_t at = 0;
   for (int r = 0; r < size; ++r)

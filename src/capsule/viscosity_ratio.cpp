@@ -59,8 +59,9 @@ Eigen::Matrix3Xd ViscosityRatioSolver::solve(const Eigen::Matrix3Xd& x, const Ei
   const double k = kappa();
   if (assembled && (assembled->rows() != n || assembled->cols() != n))
     throw std::invalid_argument("ViscosityRatioSolver: an assembled matrix of the wrong size");
-  const stokes::RowMat dl =
-      assembled ? *assembled : ops_.double_layer_matrix(x, targets, &expansion_);
+  stokes::RowMat own;
+  if (!assembled) own = ops_.double_layer_matrix(x, targets, &expansion_);
+  const stokes::RowMat& dl = assembled ? *assembled : own;
   const Gmres::Operator A = [&](const Eigen::VectorXd& v, Eigen::VectorXd& out) {
     out.noalias() = dl * v;
     out = v - k * out;
