@@ -50,6 +50,7 @@ bool gnuplot_on_path() {
 void write_text(const fs::path& p, const std::string& text) {
   std::ofstream f(p, std::ios::trunc);
   f << text;
+  f.close();  // the last buffered part written (or failed) before the check
   if (!f) throw std::runtime_error("cannot write " + p.string());
 }
 
