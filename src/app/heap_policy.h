@@ -11,7 +11,7 @@
 // 128 KiB or more (the viscosity-ratio solve's double-layer matrix, 0.35 MB at NE=6 NB=10) was
 // mapped and unmapped afresh at each use, page faults again: keep_freed_heap() also sets
 // M_MMAP_THRESHOLD to its largest value, 32 MiB, so such blocks come from the heap and are reused
-// (a lambda = 5 run 14 % faster, lambda = 1 unchanged; docs/performance.md, "The heap between
+// (a lambda = 5 run in 0.84x the time, lambda = 1 unchanged; docs/performance.md, "The heap between
 // steps"). Thresholds the user set (MALLOC_TRIM_THRESHOLD_, MALLOC_MMAP_THRESHOLD_ or
 // GLIBC_TUNABLES glibc.malloc.trim_threshold / mmap_threshold) are left as they are.
 #pragma once
