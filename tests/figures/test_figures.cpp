@@ -354,6 +354,23 @@ TEST(FigureCommand, PublishedSteadyStatesAndTheoryAreDrawnWhereTheyApply) {
   const auto ts = read_dat(out / "ts_D.dat");
   ASSERT_EQ(ts.size(), 2u);
   EXPECT_EQ(ts[1], (std::vector<std::vector<double>>{{0, 0.548}, {2, 0.548}}));
+  // a run whose timeseries.csv has no ca column (older runs): no paper line on its ts_D
+  {
+    std::istringstream in(slurp(d / "sk" / "timeseries.csv"));
+    std::ostringstream without_ca;
+    for (std::string line; std::getline(in, line);) {
+      const size_t a = line.find(','), b = line.find(',', a + 1);
+      without_ca << line.substr(0, a) << line.substr(b) << "\n";  // drops the second column
+    }
+    put(d / "old" / "timeseries.csv", without_ca.str());
+    put(d / "old" / "control.json", slurp(d / "sk" / "control.json"));
+    ASSERT_EQ(run_capflow((d / "old").string() + " -o " + (d / "out_old").string() +
+                              " --kinds timeseries --no-gnuplot",
+                          d / "log_old.txt"),
+              0)
+        << slurp(d / "log_old.txt");
+    EXPECT_EQ(read_dat(d / "out_old" / "ts_D.dat").size(), 1u);
+  }
   const std::string gp = slurp(out / "steady_D_vs_ca.gp");
   EXPECT_NE(gp.find("'Dodson \\& Dimitrakopoulos (SBE)'"), std::string::npos)
       << gp;  // \\& prints & in enhanced text
