@@ -18,25 +18,38 @@ enum Op : int { kEnd = 0, kSetUp = 1, kSingleLayer = 2, kDoubleLayerMatrix = 3, 
 int g_next_id = 0;
 bool g_ended = false;
 
-// This rank's share of SL[f] at targets: targets rank, rank + size, rank + 2 size, ... (every
-// size-th: the dear edge and corner targets spread evenly), as 3 x share values.
+// This rank's positions among n targets: rank, rank + size, rank + 2 size, ... (every size-th:
+// the dear edge and corner targets spread evenly).
+std::vector<int> my_positions(int n) {
+  std::vector<int> mine;
+  for (int k = parallel::rank(); k < n; k += parallel::size()) mine.push_back(k);
+  return mine;
+}
+
+// The target positions in the order the gather concatenates the ranks' shares.
+std::vector<int> gathered_order(int n, int size) {
+  std::vector<int> order;
+  for (int r = 0; r < size; ++r)
+    for (int k = r; k < n; k += size) order.push_back(k);
+  return order;
+}
+
+// This rank's share of SL[f] at targets (my_positions), as 3 x share values.
 std::vector<double> my_share(const stokes::BoundaryOperators& ops, const Eigen::Matrix3Xd& x,
                              const Eigen::Matrix3Xd& f, const std::vector<int>& targets) {
   std::vector<int> mine;
-  for (size_t k = static_cast<size_t>(parallel::rank()); k < targets.size();
-       k += static_cast<size_t>(parallel::size()))
-    mine.push_back(targets[k]);
+  for (int k : my_positions(static_cast<int>(targets.size())))
+    mine.push_back(targets[static_cast<size_t>(k)]);
   Eigen::Matrix3Xd out(3, static_cast<long>(mine.size()));
   if (!mine.empty()) ops.single_layer(x, f, mine, out);
   return std::vector<double>(out.data(), out.data() + out.size());
 }
 
 // This rank's rows of the viscosity-ratio solve's double-layer matrix: the rows of the same
-// targets as my_share (every size-th), flattened row-major (3 share x 3 targets values).
+// targets as my_share, flattened row-major (3 share x 3 targets values).
 std::vector<double> my_rows(const capsule::Capsule& cap, const Eigen::Matrix3Xd& x, bool symmetry,
                             int targets) {
-  std::vector<int> mine;
-  for (int k = parallel::rank(); k < targets; k += parallel::size()) mine.push_back(k);
+  const std::vector<int> mine = my_positions(targets);
   if (mine.empty()) return {};
   const stokes::RowMat rows = cap.double_layer_rows(x, symmetry, mine);
   return std::vector<double>(rows.data(), rows.data() + rows.size());
@@ -52,10 +65,9 @@ stokes::RowMat interleave_rows(const std::vector<double>& all, int targets, int 
                         3);
   stokes::RowMat out(n, n);
   size_t at = 0;
-  for (int r = 0; r < size; ++r)
-    for (int k = r; k < targets; k += size)
-      for (int i = 0; i < 3; ++i, at += static_cast<size_t>(n))
-        out.row(3L * k + i) = Eigen::Map<const Eigen::RowVectorXd>(all.data() + at, n);
+  for (int k : gathered_order(targets, size))
+    for (int i = 0; i < 3; ++i, at += static_cast<size_t>(n))
+      out.row(3L * k + i) = Eigen::Map<const Eigen::RowVectorXd>(all.data() + at, n);
   return out;
 }
 
@@ -63,9 +75,10 @@ stokes::RowMat interleave_rows(const std::vector<double>& all, int targets, int 
 Eigen::Matrix3Xd interleave(const std::vector<double>& all, size_t n, int size) {
   Eigen::Matrix3Xd out(3, static_cast<long>(n));
   size_t at = 0;
-  for (int r = 0; r < size; ++r)
-    for (size_t k = static_cast<size_t>(r); k < n; k += static_cast<size_t>(size), at += 3)
-      out.col(static_cast<long>(k)) = Eigen::Vector3d(all[at], all[at + 1], all[at + 2]);
+  for (int k : gathered_order(static_cast<int>(n), size)) {
+    out.col(k) = Eigen::Vector3d(all[at], all[at + 1], all[at + 2]);
+    at += 3;
+  }
   return out;
 }
 
