@@ -26,15 +26,15 @@ double small_deformation_slope(const RunInfo& run) {
 std::vector<PublishedSteady> published_steady(const RunInfo& run) {
   if (run.flow != "planar-extension") return {};
   if (run.law == "skalak" && run.c == 1)
-    return {{kPaper, 0.45, 0.548, 1.76},
-            {kPaper, 0.6, 0.595, 1.90},
-            {kLac, 0.45, 0.549, 1.78},
-            {kLac, 0.6, 0.6, 1.95}};
+    return {{kPaper, true, 0.45, 0.548, 1.76},
+            {kPaper, true, 0.6, 0.595, 1.90},
+            {kLac, false, 0.45, 0.549, 1.78},
+            {kLac, false, 0.6, 0.6, 1.95}};
   if (run.law == "neo-hookean")
-    return {{kPaper, 0.18, 0.507, 1.60},
-            {kPaper, 0.21, 0.552, 1.71},
-            {kLac, 0.18, 0.504, 1.62},
-            {kLac, 0.21, 0.552, 1.73}};
+    return {{kPaper, true, 0.18, 0.507, 1.60},
+            {kPaper, true, 0.21, 0.552, 1.71},
+            {kLac, false, 0.18, 0.504, 1.62},
+            {kLac, false, 0.21, 0.552, 1.73}};
   return {};
 }
 

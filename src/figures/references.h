@@ -22,6 +22,7 @@ double small_deformation_slope(const RunInfo& run);
 
 struct PublishedSteady {
   std::string source;  // "Dodson & Dimitrakopoulos (SBE)", "Lac et al. 2004 (BEM)"
+  bool paper;          // the paper's own value (the others it quotes for comparison)
   double ca, D, L;
 };
 // The published steady states for the run's law and flow (empty when none apply).

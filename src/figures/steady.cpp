@@ -78,7 +78,7 @@ void add_published(Figure* fig, const std::vector<RunTable>& data, bool length) 
     Series s;
     s.block = static_cast<int>(fig->blocks.size());
     s.title = labels::literal(source);
-    s.style = k++ == 0 ? style::published_points() : "points pt 6 ps 1.4 lw 1.5 lc rgb '#000000'";
+    s.style = style::published_points(k++);
     fig->blocks.push_back(std::move(b));
     fig->panels[0].series.push_back(s);
   }

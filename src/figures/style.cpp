@@ -34,8 +34,9 @@ std::string theory_line(int k) {
   return "lines lw 1.5 lc rgb '#555555' " + dash(k + 1);
 }
 
-std::string published_points() {
-  return "points pt 4 ps 1.4 lw 1.5 lc rgb '#000000'";
+std::string published_points(int k) {
+  static const int kOpen[] = {4, 6, 8, 10, 12};
+  return "points pt " + std::to_string(cycle(kOpen, k)) + " ps 1.4 lw 1.5 lc rgb '#000000'";
 }
 
 }  // namespace capflow::figures::style

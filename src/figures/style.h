@@ -16,8 +16,9 @@ std::string point(int k);   // "pt 7", cycling through filled and open markers
 
 // A data line: colour c, dash d, with points (marker m) for sparse data such as steady states.
 std::string data_line(int c, int d, int m, bool points);
-// A reference: a theory line (grey, thin, dashed) or published values (black open markers).
+// A reference: a theory line (grey, thin, dashed) or the published values of source k (black
+// open markers: square, circle, triangle, ...).
 std::string theory_line(int k);
-std::string published_points();
+std::string published_points(int k);
 
 }  // namespace capflow::figures::style

@@ -60,7 +60,7 @@ void add_published_steady_d(Figure* fig, const std::vector<RunTable>& data) {
     const double t0 = tb.num(0, tb.col("t")), t1 = tb.num(tb.rows() - 1, tb.col("t"));
     for (const PublishedSteady& p : published_steady(run)) {
       // (a run without a ca column has NaN here: no line)
-      if (p.source.rfind("Dodson", 0) != 0 || !(std::abs(p.ca - ca) <= 1e-9)) continue;
+      if (!p.paper || !(std::abs(p.ca - ca) <= 1e-9)) continue;
       Block b;
       b.comment = p.source + ": steady D at Ca = " + short_num(p.ca) + " (run " + run.label + ")";
       b.columns = {"t", "D"};
