@@ -73,6 +73,12 @@ std::string run_control(const std::string& t_end) {
   return s;
 }
 
+// `capflow COMMAND CONTROL -o DIR` on np ranks (its log beside DIR); the exit code.
+int on_ranks(int np, const std::string& command, const fs::path& control, const fs::path& dir) {
+  return test::run_capflow(mpirun(np, {command, control.string(), "-o", dir.string()}),
+                           dir.string() + ".log", 300);
+}
+
 }  // namespace
 
 TEST(Mpi, OneTwoAndThreeRanksGiveTheSameRunAndSteadyStates) {
@@ -85,16 +91,10 @@ TEST(Mpi, OneTwoAndThreeRanksGiveTheSameRunAndSteadyStates) {
     "output": {"mp4": false}})");
   for (int np : {1, 2, 3}) {
     const std::string n = std::to_string(np);
-    ASSERT_EQ(test::run_capflow(
-                  mpirun(np, {"run", (d / "run.json").string(), "-o", (d / ("run" + n)).string()}),
-                  d / ("log_run" + n), 300),
-              0)
-        << test::read_file(d / ("log_run" + n));
-    ASSERT_EQ(test::run_capflow(mpirun(np, {"steady", (d / "steady.json").string(), "-o",
-                                            (d / ("steady" + n)).string()}),
-                                d / ("log_steady" + n), 300),
-              0)
-        << test::read_file(d / ("log_steady" + n));
+    ASSERT_EQ(on_ranks(np, "run", d / "run.json", d / ("run" + n)), 0)
+        << test::read_file(d / ("run" + n + ".log"));
+    ASSERT_EQ(on_ranks(np, "steady", d / "steady.json", d / ("steady" + n)), 0)
+        << test::read_file(d / ("steady" + n + ".log"));
   }
   const auto run1 = without(d / "run1" / "timeseries.csv", "wall_s");
   const auto steady1 = without(d / "steady1" / "steady.csv", "wall_s");
@@ -118,11 +118,8 @@ TEST(Mpi, AViscosityRatioRunIsTheSameOnOneTwoAndThreeRanks) {
   test::write_file(d / "run.json", ctl);
   for (int np : {1, 2, 3}) {
     const std::string n = std::to_string(np);
-    ASSERT_EQ(test::run_capflow(
-                  mpirun(np, {"run", (d / "run.json").string(), "-o", (d / ("run" + n)).string()}),
-                  d / ("log" + n), 300),
-              0)
-        << test::read_file(d / ("log" + n));
+    ASSERT_EQ(on_ranks(np, "run", d / "run.json", d / ("run" + n)), 0)
+        << test::read_file(d / ("run" + n + ".log"));
   }
   const auto run1 = without(d / "run1" / "timeseries.csv", "wall_s");
   EXPECT_GT(run1.size(), 10u);

@@ -136,6 +136,17 @@ void make_run(const fs::path& d, double amp, bool surfaces) {
   }
 }
 
+// The control of a Skalak C = 1 run in planar extension: the law and flow the paper reports
+// steady states for (figures/references.h).
+const char* kSkalakPlanar =
+    R"({"ca": 0.45, "capsule": {"law": "skalak", "C": 1}, "flow": {"type": "planar-extension"}})";
+
+// make_run (amp 0.9) with that control.
+void make_skalak_planar_run(const fs::path& d) {
+  make_run(d, 0.9, false);
+  put(d / "control.json", kSkalakPlanar);
+}
+
 int run_capflow(const std::string& args, const fs::path& log) {
   const std::string cmd =
       std::string(CAPFLOW_EXE) + " figure " + args + " > " + log.string() + " 2>&1";
@@ -331,9 +342,7 @@ TEST(FigureCommand, PublishedSteadyStatesAndTheoryAreDrawnWhereTheyApply) {
   // ends at Ca = 0.45, so the paper's steady D = 0.548 is drawn across it. --no-references
   // leaves all of them out.
   const fs::path d = fresh_dir("refs");
-  make_run(d / "sk", 0.9, false);
-  put(d / "sk" / "control.json",
-      R"({"ca": 0.45, "capsule": {"law": "skalak", "C": 1}, "flow": {"type": "planar-extension"}})");
+  make_skalak_planar_run(d / "sk");
   const fs::path out = d / "out", bare = d / "bare";
   ASSERT_EQ(run_capflow((d / "sk").string() + " -o " + out.string() +
                             " --kinds timeseries,steady --no-gnuplot",
@@ -363,7 +372,7 @@ TEST(FigureCommand, PublishedSteadyStatesAndTheoryAreDrawnWhereTheyApply) {
       without_ca << line.substr(0, a) << line.substr(b) << "\n";  // drops the second column
     }
     put(d / "old" / "timeseries.csv", without_ca.str());
-    put(d / "old" / "control.json", slurp(d / "sk" / "control.json"));
+    put(d / "old" / "control.json", kSkalakPlanar);
     ASSERT_EQ(run_capflow((d / "old").string() + " -o " + (d / "out_old").string() +
                               " --kinds timeseries --no-gnuplot",
                           d / "log_old.txt"),
@@ -390,9 +399,7 @@ TEST(FigureCommand, NoFigureOfReferencesAlone) {
   // A Skalak C = 1 run that reached no steady state: steady_D_vs_ca would hold the theory line
   // and the published values only, so it is skipped with a note.
   const fs::path d = fresh_dir("refs_alone");
-  make_run(d / "sk", 0.9, false);
-  put(d / "sk" / "control.json",
-      R"({"ca": 0.45, "capsule": {"law": "skalak", "C": 1}, "flow": {"type": "planar-extension"}})");
+  make_skalak_planar_run(d / "sk");
   put(d / "sk" / "steady.csv", "ca,L,S,W,Lc,Sc,Wc,D,area,edge_curvature,tau_max,tau_min\n");
   const fs::path out = d / "out";
   ASSERT_EQ(run_capflow((d / "sk").string() + " -o " + out.string() +
