@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "spectral/target_clones.h"
 #include "stokes/lagrange_line.h"
@@ -14,34 +15,80 @@ using namespace detail;  // NOLINT: the shared stage-2 pieces (lagrange_line.h)
 
 namespace {
 
-// One line: G[c nb + j] = sum over the line's points of K_c L_j(along), total[c] += sum K_c.
-// The points in chunks of up to kChunk blocks: their bases and kernel values stay on the stack,
-// and each G entry gets one chunk's products summed in a register (a load and a store per
-// kChunk multiply-adds instead of per one).
+// Up to kW lines of one edge point set (lines l0 .. l0 + n - 1: the same points along, at
+// different ray fractions), one line per lane: Gt(c nb + j, l) = sum over line l's points of
+// K_c L_j(along), total[c] += sum K_c. The lanes of a block are one point index of every line, so
+// a line's sums stay in its lane (no horizontal sums per line) and the lines of one edge fill the
+// lanes evenly. The points in chunks of kChunk: their bases and kernel values stay on the stack,
+// and each Gt entry gets one chunk's products summed in a register. Lanes past n repeat line
+// l0 + n - 1 with weight 0; Gt gets kW columns from l0 on (the columns past n belong to the next
+// group or lie past the rule).
 CAPFLOW_TARGET_CLONES("arch=x86-64-v4", "arch=x86-64-v3", "default")
-void matrix_line(int nb, const LagrangeLine& ln, const NodalBasis& nbas, double sg,
-                 const double* x0, double* G, double* total) {
+void matrix_lines(int nb, const LineRule& R, int l0, int n, const Scratch& sc,
+                  const NodalBasis& nbas, double sg, const double* x0, double* Gt, long ldG,
+                  double* total) {
   constexpr int kChunk = 4;
-  double dA[3 * kMaxNb];
-  along_derivative(nb, ln.A, nbas.diff, dA);
+  const int n3 = 3 * nb;
+  vl A[3 * kMaxNb], B[3 * kMaxNb], dA[3 * kMaxNb];
+  vl base, scale, wscale;
+  for (int q = 0; q < kW; ++q) {
+    const int l = l0 + std::min(q, n - 1);
+    const double* a = sc.A.row(l).data();
+    const double* b = sc.B.row(l).data();
+    for (int i = 0; i < n3; ++i) {
+      A[i][q] = a[i];
+      B[i][q] = b[i];
+    }
+    base[q] = R.base[l];
+    scale[q] = R.scale[l];
+    wscale[q] = q < n ? R.wscale[l] : 0.0;
+  }
+  // the derivative along each line at its along nodes (exact for the line's polynomial)
+  for (int c = 0; c < 3; ++c)
+    for (int i = 0; i < nb; ++i) {
+      vl d = kZero;
+      for (int k = 0; k < nb; ++k) d += nbas.diff[i + k * nb] * A[c * nb + k];
+      dA[c * nb + i] = d;
+    }
+  const double* off = R.line_off(l0);
+  const double* wedge = R.line_wedge(l0);
+  const int m = R.start[l0 + 1] - R.start[l0];
   vl g[6][kMaxNb];
   for (vl* gc : g)
     for (int j = 0; j < nb; ++j) gc[j] = kZero;
   vl tot[6];
   for (vl& v : tot) v = kZero;
-  for (int c0 = 0; c0 < ln.m; c0 += kChunk * kW) {
+  for (int p0 = 0; p0 < m; p0 += kChunk) {
     vl L[kChunk][kMaxNb], k[kChunk][6];
-    const int blocks = std::min(kChunk, (ln.m - c0 + kW - 1) / kW);
-    for (int b = 0; b < blocks; ++b) {
-      vl wq, pad, X[3], Ac[3], Al[3], n[3];
-      lagrange_block<false, true, true>(nb, ln, dA, nbas, c0 + b * kW, wq, pad, X, nullptr, Ac, Al,
-                                        L[b]);
-      weighted_normal(Ac, Al, wq, sg, n);
+    const int points = std::min(kChunk, m - p0);
+    for (int b = 0; b < points; ++b) {
+      const vl ov = base + scale * off[p0 + b], wq = wscale * wedge[p0 + b];
+      vl pre[kMaxNb];  // c_j prod_{k < j} (o - x_k)
+      vl P = kOne;
+      for (int j = 0; j < nb; ++j) {
+        pre[j] = nbas.weights[j] * P;
+        P = P * (ov - nbas.nodes[j]);
+      }
+      vl X[3], Ac[3], Al[3];
+      for (int c = 0; c < 3; ++c) X[c] = Ac[c] = Al[c] = kZero;
+      P = kOne;  // prod_{k > j} (o - x_k)
+      for (int j = nb - 1; j >= 0; --j) {
+        const vl Lj = pre[j] * P;
+        L[b][j] = Lj;
+        P = P * (ov - nbas.nodes[j]);
+        for (int c = 0; c < 3; ++c) {
+          X[c] += A[c * nb + j] * Lj;
+          Ac[c] += B[c * nb + j] * Lj;
+          Al[c] += dA[c * nb + j] * Lj;
+        }
+      }
+      vl nv[3];
+      weighted_normal(Ac, Al, wq, sg, nv);
       const vl rx = X[0] - x0[0], ry = X[1] - x0[1], rz = X[2] - x0[2];
-      vl ir = rx * rx + ry * ry + rz * rz + pad;
+      vl ir = rx * rx + ry * ry + rz * rz;
       inv_sqrt(ir);
       const vl ir2 = ir * ir;
-      const vl a = -6.0 * (rx * n[0] + ry * n[1] + rz * n[2]) * (ir2 * ir2 * ir);
+      const vl a = -6.0 * (rx * nv[0] + ry * nv[1] + rz * nv[2]) * (ir2 * ir2 * ir);
       const vl ax = a * rx, ay = a * ry;
       k[b][0] = ax * rx;
       k[b][1] = ay * ry;
@@ -54,30 +101,13 @@ void matrix_line(int nb, const LagrangeLine& ln, const NodalBasis& nbas, double 
     for (int c = 0; c < 6; ++c)
       for (int j = 0; j < nb; ++j) {
         vl s = k[0][c] * L[0][j];
-        for (int b = 1; b < blocks; ++b) s += k[b][c] * L[b][j];
+        for (int b = 1; b < points; ++b) s += k[b][c] * L[b][j];
         g[c][j] += s;
       }
   }
   for (int c = 0; c < 6; ++c)
-    for (int j = 0; j < nb; ++j) G[c * nb + j] = hsum(g[c][j]);
+    for (int j = 0; j < nb; ++j) std::memcpy(Gt + (c * nb + j) * ldG + l0, &g[c][j], sizeof(vl));
   for (int c = 0; c < 6; ++c) total[c] += hsum(tot[c]);
-}
-
-// Er (nb x w, row-major) += across G^T (first: = instead of +=): row a gets across[a] times G
-// (w = 6 nb entries).
-CAPFLOW_TARGET_CLONES("arch=x86-64-v4", "arch=x86-64-v3", "default")
-void add_outer(int nb, int w, const double* across, const double* G, double* Er, bool first) {
-  for (int a = 0; a < nb; ++a) {
-    const double s = across[a];
-    double* row = Er + static_cast<long>(a) * w;
-    if (first) {
-#pragma omp simd
-      for (int q = 0; q < w; ++q) row[q] = s * G[q];
-    } else {
-#pragma omp simd
-      for (int q = 0; q < w; ++q) row[q] += s * G[q];
-    }
-  }
 }
 
 }  // namespace
@@ -85,28 +115,30 @@ void add_outer(int nb, int w, const double* across, const double* G, double* Er,
 void line_matrix(int nb, const LineRule& R, const NodalBasis& basis, double sign,
                  const Vector3d& x0, Scratch& sc, MatrixWorkspace& ws, MatrixXd& E, double* total) {
   across_lines(nb, 3, R, sc);
-  const int nl = R.nl(), n0 = R.n0, w = 6 * nb;
-  // Per line the kernel sums against the bases along it (G, c nb + j), times the bases across
-  // (rank-one updates): constant-s lines (across s = node index a, along t = b) into
-  // Es(a, c nb + b), constant-t lines (across t = b, along s = a) into Et(b, c nb + a).
-  RowMat &Es = ws.Es, &Et = ws.Et;
-  Es.resize(nb, w);
-  Et.resize(nb, w);
-  bool first_s = true, first_t = true;  // nothing in Es / Et yet
-  double G[6 * kMaxNb];
-  for (int l = 0; l < nl; ++l) {
-    const int m = R.start[l + 1] - R.start[l];
-    if (m == 0) continue;
+  const int nl = R.nl(), n0 = R.n0, n1 = nl - n0;
+  // Per line the kernel sums against the bases along it (Gt(c nb + j, l)), in groups of up to kW
+  // lines of one edge point set (they never straddle n0: an edge's lines share an orientation);
+  // then the bases across times them in two products: constant-s lines (across s = node index
+  // a, along t = b) into Es(a, c nb + b), constant-t lines (across t = b, along s = a) into
+  // Et(b, c nb + a). A group writes kW columns, so Gt holds kW more than the lines.
+  RowMat& Gt = ws.Gt;
+  if (Gt.rows() != 6 * nb || Gt.cols() < nl + kW) Gt.resize(6 * nb, nl + kW);
+  for (int l = 0; l < nl;) {
+    int n = 1;
+    while (n < kW && l + n < nl && R.set[l + n] == R.set[l]) ++n;
     const double sg = l < n0 ? sign : -sign;  // as line_sum: the tangents swap roles
-    const LagrangeLine ln{sc.A.row(l).data(), sc.B.row(l).data(), R.base[l],       R.scale[l],
-                          R.line_off(l),      R.wscale[l],        R.line_wedge(l), m};
-    matrix_line(nb, ln, basis, sg, x0.data(), G, total);
-    bool& first = l < n0 ? first_s : first_t;
-    add_outer(nb, w, R.Lc.col(l).data(), G, l < n0 ? Es.data() : Et.data(), first);
-    first = false;
+    matrix_lines(nb, R, l, n, sc, basis, sg, x0.data(), Gt.data(), Gt.cols(), total);
+    l += n;
   }
-  if (first_s) Es.setZero();
-  if (first_t) Et.setZero();
+  RowMat &Es = ws.Es, &Et = ws.Et;
+  if (n0 > 0)
+    Es.noalias() = R.Lc.leftCols(n0) * Gt.leftCols(n0).transpose();
+  else
+    Es.setZero(nb, 6 * nb);
+  if (n1 > 0)
+    Et.noalias() = R.Lc.middleCols(n0, n1) * Gt.middleCols(n0, n1).transpose();
+  else
+    Et.setZero(nb, 6 * nb);
   E.resize(nb * nb, 6);
   for (int c = 0; c < 6; ++c)
     for (int b = 0; b < nb; ++b)

@@ -6,8 +6,9 @@
 // total[c] += sum_points K_c (the coefficient of -u(x0)). Then DL[u](x0) over the element is
 // sum_nodes K(node) u(node) - K_total u(x0), the same quadrature as the density form.
 // Special rules: per line the kernel times the Lagrange bases along the line (made in registers,
-// cloned like line_sums), then the outer product with the line's bases across; far tiers: the
-// kernel at the Gauss points contracted with the interpolation matrix in both directions.
+// cloned like line_sums; the lines of one edge side by side in the vector lanes), then the bases
+// across times these sums in one product per line orientation; far tiers: the kernel at the Gauss
+// points contracted with the interpolation matrix in both directions.
 #pragma once
 
 #include <Eigen/Dense>
@@ -25,7 +26,8 @@ struct MatrixWorkspace {
   Eigen::MatrixXd t;      // nb x 6 nq: the far contraction's first stage
   Eigen::MatrixXd stack;  // 6 nb x nq: its blocks stacked
   Eigen::MatrixXd e;      // 6 nb x nb: the second stage
-  RowMat Es, Et;          // special rules: the sums of the constant-s and constant-t lines
+  RowMat Gt;              // special rules: per line (column) the kernel sums along it
+  RowMat Es, Et;  // special rules: the constant-s and constant-t lines' sums times the bases across
 };
 
 // Special rule R on the element whose position is loaded in sc.D0 / sc.D1 (load_element with
