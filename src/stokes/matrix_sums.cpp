@@ -24,24 +24,33 @@ namespace {
 // l0 + n - 1 with weight 0; Gt gets kW columns from l0 on (the columns past n belong to the next
 // group or lie past the rule).
 CAPFLOW_TARGET_CLONES("arch=x86-64-v4", "arch=x86-64-v3", "default")
-void matrix_lines(int nb, const LineRule& R, int l0, int n, const Scratch& sc,
+void matrix_lines(int nb, const LineRule& R, int l0, int n, const double* D, long ldD,
                   const NodalBasis& nbas, double sg, const double* x0, double* Gt, long ldG,
                   double* total) {
   constexpr int kChunk = 4;
-  const int n3 = 3 * nb;
   vl A[3 * kMaxNb], B[3 * kMaxNb], dA[3 * kMaxNb];
-  vl base, scale, wscale;
+  vl base, scale, wscale, Lc[kMaxNb], dLc[kMaxNb];
   for (int q = 0; q < kW; ++q) {
     const int l = l0 + std::min(q, n - 1);
-    const double* a = sc.A.row(l).data();
-    const double* b = sc.B.row(l).data();
-    for (int i = 0; i < n3; ++i) {
-      A[i][q] = a[i];
-      B[i][q] = b[i];
+    for (int i = 0; i < nb; ++i) {
+      Lc[i][q] = R.Lc(i, l);
+      dLc[i][q] = R.dLc(i, l);
     }
     base[q] = R.base[l];
     scale[q] = R.scale[l];
     wscale[q] = q < n ? R.wscale[l] : 0.0;
+  }
+  // stage 1 in the lanes: the element data D (row i: across node i) interpolated across to each
+  // line, A = the position at the along nodes, B = its derivative across
+  for (int k = 0; k < 3 * nb; ++k) {
+    vl a = kZero, b = kZero;
+    for (int i = 0; i < nb; ++i) {
+      const double d = D[i * ldD + k];
+      a += Lc[i] * d;
+      b += dLc[i] * d;
+    }
+    A[k] = a;
+    B[k] = b;
   }
   // the derivative along each line at its along nodes (exact for the line's polynomial)
   for (int c = 0; c < 3; ++c)
@@ -114,7 +123,6 @@ void matrix_lines(int nb, const LineRule& R, int l0, int n, const Scratch& sc,
 
 void line_matrix(int nb, const LineRule& R, const NodalBasis& basis, double sign,
                  const Vector3d& x0, Scratch& sc, MatrixWorkspace& ws, MatrixXd& E, double* total) {
-  across_lines(nb, 3, R, sc);
   const int nl = R.nl(), n0 = R.n0, n1 = nl - n0;
   // Per line the kernel sums against the bases along it (Gt(c nb + j, l)), in groups of up to kW
   // lines of one edge point set (they never straddle n0: an edge's lines share an orientation);
@@ -126,8 +134,10 @@ void line_matrix(int nb, const LineRule& R, const NodalBasis& basis, double sign
   for (int l = 0; l < nl;) {
     int n = 1;
     while (n < kW && l + n < nl && R.set[l + n] == R.set[l]) ++n;
-    const double sg = l < n0 ? sign : -sign;  // as line_sum: the tangents swap roles
-    matrix_lines(nb, R, l, n, sc, basis, sg, x0.data(), Gt.data(), Gt.cols(), total);
+    const double sg = l < n0 ? sign : -sign;   // as line_sum: the tangents swap roles
+    const RowMat& D = l < n0 ? sc.D0 : sc.D1;  // the element data with the across index as row
+    matrix_lines(nb, R, l, n, D.data(), D.cols(), basis, sg, x0.data(), Gt.data(), Gt.cols(),
+                 total);
     l += n;
   }
   RowMat &Es = ws.Es, &Et = ws.Et;
