@@ -28,7 +28,7 @@ void matrix_lines(int nb, const LineRule& R, int l0, int n, const double* D, lon
                   const NodalBasis& nbas, double sg, const double* x0, double* Gt, long ldG,
                   double* total) {
   constexpr int kChunk = 4;
-  vl A[3 * kMaxNb], B[3 * kMaxNb], dA[3 * kMaxNb];
+  vl A[3 * kMaxNb + 4], B[3 * kMaxNb + 4], dA[3 * kMaxNb];  // + 4: stage 1 fills whole fours
   vl base, scale, wscale, Lc[kMaxNb], dLc[kMaxNb];
   for (int q = 0; q < kW; ++q) {
     const int l = l0 + std::min(q, n - 1);
@@ -41,23 +41,34 @@ void matrix_lines(int nb, const LineRule& R, int l0, int n, const double* D, lon
     wscale[q] = q < n ? R.wscale[l] : 0.0;
   }
   // stage 1 in the lanes: the element data D (row i: across node i) interpolated across to each
-  // line, A = the position at the along nodes, B = its derivative across
-  for (int k = 0; k < 3 * nb; ++k) {
-    vl a = kZero, b = kZero;
+  // line, A = the position at the along nodes, B = its derivative across; four columns at a time
+  // (eight independent sums; D has padding columns past 3 nb)
+  for (int k0 = 0; k0 < 3 * nb; k0 += 4) {
+    vl a[4] = {kZero, kZero, kZero, kZero}, b[4] = {kZero, kZero, kZero, kZero};
     for (int i = 0; i < nb; ++i) {
-      const double d = D[i * ldD + k];
-      a += Lc[i] * d;
-      b += dLc[i] * d;
+      const double* row = D + i * ldD + k0;
+      for (int j = 0; j < 4; ++j) {
+        a[j] += Lc[i] * row[j];
+        b[j] += dLc[i] * row[j];
+      }
     }
-    A[k] = a;
-    B[k] = b;
+    for (int j = 0; j < 4; ++j) {
+      A[k0 + j] = a[j];
+      B[k0 + j] = b[j];
+    }
   }
-  // the derivative along each line at its along nodes (exact for the line's polynomial)
+  // the derivative along each line at its along nodes (exact for the line's polynomial), four
+  // nodes at a time
   for (int c = 0; c < 3; ++c)
-    for (int i = 0; i < nb; ++i) {
-      vl d = kZero;
-      for (int k = 0; k < nb; ++k) d += nbas.diff[i + k * nb] * A[c * nb + k];
-      dA[c * nb + i] = d;
+    for (int i0 = 0; i0 < nb; i0 += 4) {
+      int col[4];
+      for (int j = 0; j < 4; ++j) col[j] = std::min(i0 + j, nb - 1);
+      vl d[4] = {kZero, kZero, kZero, kZero};
+      for (int k = 0; k < nb; ++k) {
+        const vl a = A[c * nb + k];
+        for (int j = 0; j < 4; ++j) d[j] += nbas.diff[col[j] + k * nb] * a;
+      }
+      for (int j = 0; j < 4 && i0 + j < nb; ++j) dA[c * nb + i0 + j] = d[j];
     }
   const double* off = R.line_off(l0);
   const double* wedge = R.line_wedge(l0);
@@ -107,12 +118,25 @@ void matrix_lines(int nb, const LineRule& R, int l0, int n, const double* D, lon
       k[b][5] = ay * rz;
       for (int c = 0; c < 6; ++c) tot[c] += k[b][c];
     }
-    for (int c = 0; c < 6; ++c)
+    if (points == kChunk) {
+      // a whole chunk: the kernel values stay in registers, each basis is loaded once
       for (int j = 0; j < nb; ++j) {
-        vl s = k[0][c] * L[0][j];
-        for (int b = 1; b < points; ++b) s += k[b][c] * L[b][j];
-        g[c][j] += s;
+        vl Lb[kChunk];
+        for (int b = 0; b < kChunk; ++b) Lb[b] = L[b][j];
+        for (int c = 0; c < 6; ++c) {
+          vl s = k[0][c] * Lb[0];
+          for (int b = 1; b < kChunk; ++b) s += k[b][c] * Lb[b];
+          g[c][j] += s;
+        }
       }
+    } else {
+      for (int c = 0; c < 6; ++c)
+        for (int j = 0; j < nb; ++j) {
+          vl s = k[0][c] * L[0][j];
+          for (int b = 1; b < points; ++b) s += k[b][c] * L[b][j];
+          g[c][j] += s;
+        }
+    }
   }
   for (int c = 0; c < 6; ++c)
     for (int j = 0; j < nb; ++j) std::memcpy(Gt + (c * nb + j) * ldG + l0, &g[c][j], sizeof(vl));
