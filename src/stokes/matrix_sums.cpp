@@ -15,6 +15,62 @@ using namespace detail;  // NOLINT: the shared stage-2 pieces (lagrange_line.h)
 
 namespace {
 
+// NP points of a line group (one per lane and line): their Lagrange bases along the lines into
+// L[q] and the 6 entries of the kernel (times w J) into k[q], added to tot. The points go side by
+// side (independent product chains for the bases, one load of the nodal data for all).
+template <int NP>
+[[gnu::always_inline]] inline void kernel_points(int nb, const vl* ov, const vl* wq, double sg,
+                                                 const NodalBasis& nbas, const vl* A, const vl* B,
+                                                 const vl* dA, const double* x0, vl (*L)[kMaxNb],
+                                                 vl (*k)[6], vl* tot) {
+  vl pre[NP][kMaxNb];  // c_j prod_{k < j} (o - x_k)
+  vl P[NP];
+  for (int q = 0; q < NP; ++q) P[q] = kOne;
+  for (int j = 0; j < nb; ++j)
+    for (int q = 0; q < NP; ++q) {
+      pre[q][j] = nbas.weights[j] * P[q];
+      P[q] = P[q] * (ov[q] - nbas.nodes[j]);
+    }
+  vl X[NP][3], Ac[NP][3], Al[NP][3];
+  for (int q = 0; q < NP; ++q) {
+    P[q] = kOne;  // prod_{k > j} (o - x_k)
+    for (int c = 0; c < 3; ++c) X[q][c] = Ac[q][c] = Al[q][c] = kZero;
+  }
+  for (int j = nb - 1; j >= 0; --j) {
+    vl Lj[NP];
+    for (int q = 0; q < NP; ++q) {
+      Lj[q] = pre[q][j] * P[q];
+      L[q][j] = Lj[q];
+      P[q] = P[q] * (ov[q] - nbas.nodes[j]);
+    }
+    for (int c = 0; c < 3; ++c) {
+      const vl a = A[c * nb + j], b = B[c * nb + j], e = dA[c * nb + j];
+      for (int q = 0; q < NP; ++q) {
+        X[q][c] += a * Lj[q];
+        Ac[q][c] += b * Lj[q];
+        Al[q][c] += e * Lj[q];
+      }
+    }
+  }
+  for (int q = 0; q < NP; ++q) {
+    vl nv[3];
+    weighted_normal(Ac[q], Al[q], wq[q], sg, nv);
+    const vl rx = X[q][0] - x0[0], ry = X[q][1] - x0[1], rz = X[q][2] - x0[2];
+    vl ir = rx * rx + ry * ry + rz * rz;
+    inv_sqrt(ir);
+    const vl ir2 = ir * ir;
+    const vl a = -6.0 * (rx * nv[0] + ry * nv[1] + rz * nv[2]) * (ir2 * ir2 * ir);
+    const vl ax = a * rx, ay = a * ry;
+    k[q][0] = ax * rx;
+    k[q][1] = ay * ry;
+    k[q][2] = a * rz * rz;
+    k[q][3] = ax * ry;
+    k[q][4] = ax * rz;
+    k[q][5] = ay * rz;
+    for (int c = 0; c < 6; ++c) tot[c] += k[q][c];
+  }
+}
+
 // Up to kW lines of one edge point set (lines l0 .. l0 + n - 1: the same points along, at
 // different ray fractions), one line per lane: Gt(c nb + j, l) = sum over line l's points of
 // K_c L_j(along), total[c] += sum K_c. The lanes of a block are one point index of every line, so
@@ -81,42 +137,15 @@ void matrix_lines(int nb, const LineRule& R, int l0, int n, const double* D, lon
   for (int p0 = 0; p0 < m; p0 += kChunk) {
     vl L[kChunk][kMaxNb], k[kChunk][6];
     const int points = std::min(kChunk, m - p0);
-    for (int b = 0; b < points; ++b) {
-      const vl ov = base + scale * off[p0 + b], wq = wscale * wedge[p0 + b];
-      vl pre[kMaxNb];  // c_j prod_{k < j} (o - x_k)
-      vl P = kOne;
-      for (int j = 0; j < nb; ++j) {
-        pre[j] = nbas.weights[j] * P;
-        P = P * (ov - nbas.nodes[j]);
-      }
-      vl X[3], Ac[3], Al[3];
-      for (int c = 0; c < 3; ++c) X[c] = Ac[c] = Al[c] = kZero;
-      P = kOne;  // prod_{k > j} (o - x_k)
-      for (int j = nb - 1; j >= 0; --j) {
-        const vl Lj = pre[j] * P;
-        L[b][j] = Lj;
-        P = P * (ov - nbas.nodes[j]);
-        for (int c = 0; c < 3; ++c) {
-          X[c] += A[c * nb + j] * Lj;
-          Ac[c] += B[c * nb + j] * Lj;
-          Al[c] += dA[c * nb + j] * Lj;
-        }
-      }
-      vl nv[3];
-      weighted_normal(Ac, Al, wq, sg, nv);
-      const vl rx = X[0] - x0[0], ry = X[1] - x0[1], rz = X[2] - x0[2];
-      vl ir = rx * rx + ry * ry + rz * rz;
-      inv_sqrt(ir);
-      const vl ir2 = ir * ir;
-      const vl a = -6.0 * (rx * nv[0] + ry * nv[1] + rz * nv[2]) * (ir2 * ir2 * ir);
-      const vl ax = a * rx, ay = a * ry;
-      k[b][0] = ax * rx;
-      k[b][1] = ay * ry;
-      k[b][2] = a * rz * rz;
-      k[b][3] = ax * ry;
-      k[b][4] = ax * rz;
-      k[b][5] = ay * rz;
-      for (int c = 0; c < 6; ++c) tot[c] += k[b][c];
+    int b = 0;
+    for (; b + 1 < points; b += 2) {
+      const vl ov[2] = {base + scale * off[p0 + b], base + scale * off[p0 + b + 1]};
+      const vl wq[2] = {wscale * wedge[p0 + b], wscale * wedge[p0 + b + 1]};
+      kernel_points<2>(nb, ov, wq, sg, nbas, A, B, dA, x0, L + b, k + b, tot);
+    }
+    if (b < points) {
+      const vl ov[1] = {base + scale * off[p0 + b]}, wq[1] = {wscale * wedge[p0 + b]};
+      kernel_points<1>(nb, ov, wq, sg, nbas, A, B, dA, x0, L + b, k + b, tot);
     }
     if (points == kChunk) {
       // a whole chunk: the kernel values stay in registers, each basis is loaded once
