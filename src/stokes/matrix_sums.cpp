@@ -137,15 +137,15 @@ void matrix_lines(int nb, const LineRule& R, int l0, int n, const double* D, lon
   for (int p0 = 0; p0 < m; p0 += kChunk) {
     vl L[kChunk][kMaxNb], k[kChunk][6];
     const int points = std::min(kChunk, m - p0);
-    int b = 0;
-    for (; b + 1 < points; b += 2) {
-      const vl ov[2] = {base + scale * off[p0 + b], base + scale * off[p0 + b + 1]};
-      const vl wq[2] = {wscale * wedge[p0 + b], wscale * wedge[p0 + b + 1]};
-      kernel_points<2>(nb, ov, wq, sg, nbas, A, B, dA, x0, L + b, k + b, tot);
+    int q = 0;
+    for (; q + 1 < points; q += 2) {
+      const vl ov[2] = {base + scale * off[p0 + q], base + scale * off[p0 + q + 1]};
+      const vl wq[2] = {wscale * wedge[p0 + q], wscale * wedge[p0 + q + 1]};
+      kernel_points<2>(nb, ov, wq, sg, nbas, A, B, dA, x0, L + q, k + q, tot);
     }
-    if (b < points) {
-      const vl ov[1] = {base + scale * off[p0 + b]}, wq[1] = {wscale * wedge[p0 + b]};
-      kernel_points<1>(nb, ov, wq, sg, nbas, A, B, dA, x0, L + b, k + b, tot);
+    if (q < points) {
+      const vl ov[1] = {base + scale * off[p0 + q]}, wq[1] = {wscale * wedge[p0 + q]};
+      kernel_points<1>(nb, ov, wq, sg, nbas, A, B, dA, x0, L + q, k + q, tot);
     }
     if (points == kChunk) {
       // a whole chunk: the kernel values stay in registers, each basis is loaded once
