@@ -57,12 +57,10 @@ constexpr vl kZero = {0, 0, 0, 0, 0, 0, 0, 0}, kOne = {1, 1, 1, 1, 1, 1, 1, 1};
 // along (Al, from dA) (Tangents). The Lagrange bases at each point are made in registers by the
 // product formula of spectral::lagrange_bases (prefix products times the weight c_j, then suffix
 // products), so no rule stores point bases and no near rule evaluates them into memory.
-// KeepBases: the bases L_j at the points also into bases[0 .. nb - 1] (the assembled double layer).
-template <bool Density, bool Tangents, bool KeepBases = false>
+template <bool Density, bool Tangents>
 [[gnu::always_inline]] inline void lagrange_block(int nb, const LagrangeLine& ln, const double* dA,
                                                   const NodalBasis& nbas, int p0, vl& wq, vl& pad,
-                                                  vl* X, vl* F, vl* Ac, vl* Al,
-                                                  vl* bases = nullptr) {
+                                                  vl* X, vl* F, vl* Ac, vl* Al) {
   vl ov;
   for (int q = 0; q < kW; ++q) {
     const bool in = p0 + q < ln.m;
@@ -86,7 +84,6 @@ template <bool Density, bool Tangents, bool KeepBases = false>
   const double* B = ln.B;
   for (int j = nb - 1; j >= 0; --j) {
     const vl L = pre[j] * P;
-    if constexpr (KeepBases) bases[j] = L;
     P = P * (ov - nbas.nodes[j]);
     for (int c = 0; c < 3; ++c) X[c] += A[c * nb + j] * L;
     if constexpr (Density)

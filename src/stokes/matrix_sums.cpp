@@ -15,6 +15,23 @@ using namespace detail;  // NOLINT: the shared stage-2 pieces (lagrange_line.h)
 
 namespace {
 
+// The six entries (xx, yy, zz, xy, xz, yz) of the double-layer kernel -6 (r.n) r r^T / r^5 at a
+// point, n the weighted normal w J n and ir = 1 / |r|: for a block of points (vl) in the special
+// rules and for one Gauss point (double) in the far tiers.
+template <class T>
+[[gnu::always_inline]] inline void kernel_entries(T rx, T ry, T rz, T nx, T ny, T nz, T ir, T& kxx,
+                                                  T& kyy, T& kzz, T& kxy, T& kxz, T& kyz) {
+  const T ir2 = ir * ir;
+  const T a = -6.0 * (rx * nx + ry * ny + rz * nz) * (ir2 * ir2 * ir);
+  const T ax = a * rx, ay = a * ry;
+  kxx = ax * rx;
+  kyy = ay * ry;
+  kzz = a * rz * rz;
+  kxy = ax * ry;
+  kxz = ax * rz;
+  kyz = ay * rz;
+}
+
 // NP points of a line group (one per lane and line): their Lagrange bases along the lines into
 // L[q] and the 6 entries of the kernel (times w J) into k[q], added to tot. The points go side by
 // side (independent product chains for the bases, one load of the nodal data for all).
@@ -58,15 +75,8 @@ template <int NP>
     const vl rx = X[q][0] - x0[0], ry = X[q][1] - x0[1], rz = X[q][2] - x0[2];
     vl ir = rx * rx + ry * ry + rz * rz;
     inv_sqrt(ir);
-    const vl ir2 = ir * ir;
-    const vl a = -6.0 * (rx * nv[0] + ry * nv[1] + rz * nv[2]) * (ir2 * ir2 * ir);
-    const vl ax = a * rx, ay = a * ry;
-    k[q][0] = ax * rx;
-    k[q][1] = ay * ry;
-    k[q][2] = a * rz * rz;
-    k[q][3] = ax * ry;
-    k[q][4] = ax * rz;
-    k[q][5] = ay * rz;
+    kernel_entries(rx, ry, rz, nv[0], nv[1], nv[2], ir, k[q][0], k[q][1], k[q][2], k[q][3], k[q][4],
+                   k[q][5]);
     for (int c = 0; c < 6; ++c) tot[c] += k[q][c];
   }
 }
@@ -230,14 +240,7 @@ void far_matrix(const FarData& F, int q0, const MatrixXd& I, const Vector3d& x0,
   for (int q = 0; q < nqe; ++q) {
     const double rx = px[q] - X0, ry = py[q] - X1, rz = pz[q] - X2;
     const double ir = 1.0 / std::sqrt(rx * rx + ry * ry + rz * rz);
-    const double ir2 = ir * ir;
-    const double a = -6.0 * (rx * nx[q] + ry * ny[q] + rz * nz[q]) * (ir2 * ir2 * ir);
-    k0[q] = a * rx * rx;
-    k1[q] = a * ry * ry;
-    k2[q] = a * rz * rz;
-    k3[q] = a * rx * ry;
-    k4[q] = a * rx * rz;
-    k5[q] = a * ry * rz;
+    kernel_entries(rx, ry, rz, nx[q], ny[q], nz[q], ir, k0[q], k1[q], k2[q], k3[q], k4[q], k5[q]);
     t0 += k0[q];
     t1 += k1[q];
     t2 += k2[q];
