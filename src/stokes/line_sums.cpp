@@ -98,24 +98,28 @@ namespace {
 // Single layer, one line of a line rule: stage 2 (values along the line from the stage-1 rows
 // A (x, f: 6 nb Chebyshev coefficients in the along coordinate) and B (d/d(across) x: 3 nb))
 // and the kernel sum, added to out[0..2]. The line's m points o_j = base + scale off[j] (along
-// coordinate) with weights w_j = wscale wedge[j] (LineRule). Blocks of kW points with the 12
+// coordinate) with weights w_j = wscale wedge[j] (LineRule). Vectors of W points with the 12
 // interpolated values in registers (GCC vector extension): T_k by T_{k+1} = 2 o T_k - T_{k-1}, T_k'
 // = k U_{k-1} with U likewise. Compiled three times (x86-64-v4 with AVX-512, x86-64-v3 with
-// AVX2/FMA, and the default), chosen at load time.
+// AVX2/FMA, and the default), chosen at load time, for the width W of each (lagrange_line.h).
 typedef double v4d __attribute__((vector_size(32)));
+template <int W>
 CAPFLOW_TARGET_CLONES("arch=x86-64-v4", "arch=x86-64-v3", "default")
 void single_line(int nb, int m, const double* A, const double* B, double base, double scale,
                  const double* off, double wscale, const double* wedge, const double* x0,
                  double* out) {
+  using vl = vec<W>;
   double kx[3 * kMaxNb];  // k c_k of the position's coefficients (the derivative's U weights)
   for (int c = 0; c < 3; ++c)
     for (int k = 0; k < nb; ++k) kx[c * nb + k] = k * A[c * nb + k];
-  const vl zero = {0, 0, 0, 0, 0, 0, 0, 0}, one = {1, 1, 1, 1, 1, 1, 1, 1};
+  const vl zero = zeros<W>(), one = ones<W>();
   const vl x00 = x0[0] * one, x01 = x0[1] * one, x02 = x0[2] * one;
-  vl s0 = zero, s1 = zero, s2 = zero;
-  for (int p0 = 0; p0 < m; p0 += kW) {
+  vl s0[kParts<W>], s1[kParts<W>], s2[kParts<W>];
+  for (int h = 0; h < kParts<W>; ++h) s0[h] = s1[h] = s2[h] = zero;
+  for (int p0 = 0; p0 < m; p0 += W) {
+    const int h = part_of<W>(p0);
     vl ov, wq, pad;
-    for (int q = 0; q < kW; ++q) {
+    for (int q = 0; q < W; ++q) {
       const bool in = p0 + q < m;
       ov[q] = in ? base + scale * off[p0 + q] : 0.0;
       wq[q] = in ? wscale * wedge[p0 + q] : 0.0;
@@ -153,19 +157,19 @@ void single_line(int nb, int m, const double* A, const double* B, double base, d
     const vl r2 = rx * rx + ry * ry + rz * rz + pad;
     const vl n2 = nx * nx + ny * ny + nz * nz;
     vl ir, nn;
-    for (int q = 0; q < kW; ++q) {
+    for (int q = 0; q < W; ++q) {
       ir[q] = 1.0 / std::sqrt(r2[q]);
       nn[q] = std::sqrt(n2[q]);
     }
     const vl aa = wq * nn * ir;
     const vl bb = aa * ir * ir * (rx * F0 + ry * F1 + rz * F2);
-    s0 += aa * F0 + bb * rx;
-    s1 += aa * F1 + bb * ry;
-    s2 += aa * F2 + bb * rz;
+    s0[h] += aa * F0 + bb * rx;
+    s1[h] += aa * F1 + bb * ry;
+    s2[h] += aa * F2 + bb * rz;
   }
-  out[0] += ((s0[0] + s0[1]) + (s0[2] + s0[3])) + ((s0[4] + s0[5]) + (s0[6] + s0[7]));
-  out[1] += ((s1[0] + s1[1]) + (s1[2] + s1[3])) + ((s1[4] + s1[5]) + (s1[6] + s1[7]));
-  out[2] += ((s2[0] + s2[1]) + (s2[2] + s2[3])) + ((s2[4] + s2[5]) + (s2[6] + s2[7]));
+  out[0] += hsum<W>(s0);
+  out[1] += hsum<W>(s1);
+  out[2] += hsum<W>(s2);
 }
 
 }  // namespace
@@ -263,96 +267,162 @@ void stage1(int nb, int nl, int Kn, int n3, const double* Lc, const double* dLc,
 
 namespace {
 
+// The sums of a Lagrange-mode line: C components per part of a block, zeroed.
+template <int W, int C>
+struct LineSums {
+  vec<W> s[C][kParts<W>];
+  LineSums() {
+    for (auto& c : s)
+      for (vec<W>& v : c) v = zeros<W>();
+  }
+  void add_to(double* out) const {
+    for (int c = 0; c < C; ++c) out[c] += hsum<W>(s[c]);
+  }
+};
+
 // INT S.n dS over one line: out[0..2] += sum w (n / r + (r.n) r / r^3) (kernel_point.h).
+template <int W>
 CAPFLOW_TARGET_CLONES("arch=x86-64-v4", "arch=x86-64-v3", "default")
 void normal_line(int nb, const LagrangeLine& ln, const NodalBasis& nbas, double sg,
                  const double* x0, double* out) {
+  using vl = vec<W>;
   double dA[3 * kMaxNb];
   along_derivative(nb, ln.A, nbas.diff, dA);
-  vl s[3] = {kZero, kZero, kZero};
-  for (int p0 = 0; p0 < ln.m; p0 += kW) {
+  LineSums<W, 3> s;
+  for (int p0 = 0; p0 < ln.m; p0 += W) {
+    const int h = part_of<W>(p0);
     vl wq, pad, X[3], Ac[3], Al[3], n[3];
-    lagrange_block<false, true>(nb, ln, dA, nbas, p0, wq, pad, X, nullptr, Ac, Al);
-    weighted_normal(Ac, Al, wq, sg, n);
+    lagrange_block<false, true, W>(nb, ln, dA, nbas, p0, wq, pad, X, nullptr, Ac, Al);
+    weighted_normal<W>(Ac, Al, wq, sg, n);
     const vl rx = X[0] - x0[0], ry = X[1] - x0[1], rz = X[2] - x0[2];
     vl ir = rx * rx + ry * ry + rz * rz + pad;
-    inv_sqrt(ir);
+    inv_sqrt<W>(ir);
     const vl b = (rx * n[0] + ry * n[1] + rz * n[2]) * ir * ir * ir;
-    s[0] += ir * n[0] + b * rx;
-    s[1] += ir * n[1] + b * ry;
-    s[2] += ir * n[2] + b * rz;
+    s.s[0][h] += ir * n[0] + b * rx;
+    s.s[1][h] += ir * n[1] + b * ry;
+    s.s[2][h] += ir * n[2] + b * rz;
   }
-  for (int c = 0; c < 3; ++c) out[c] += hsum(s[c]);
+  s.add_to(out);
 }
 
 // The double layer over one line: out[0..2] += sum -6 (r.(u - u0)) (r.n) r / r^5.
+template <int W>
 CAPFLOW_TARGET_CLONES("arch=x86-64-v4", "arch=x86-64-v3", "default")
 void double_line(int nb, const LagrangeLine& ln, const NodalBasis& nbas, double sg,
                  const double* x0, const double* u0, double* out) {
+  using vl = vec<W>;
   double dA[3 * kMaxNb];
   along_derivative(nb, ln.A, nbas.diff, dA);
-  vl s[3] = {kZero, kZero, kZero};
-  for (int p0 = 0; p0 < ln.m; p0 += kW) {
+  LineSums<W, 3> s;
+  for (int p0 = 0; p0 < ln.m; p0 += W) {
+    const int h = part_of<W>(p0);
     vl wq, pad, X[3], F[3], Ac[3], Al[3], n[3];
-    lagrange_block<true, true>(nb, ln, dA, nbas, p0, wq, pad, X, F, Ac, Al);
-    weighted_normal(Ac, Al, wq, sg, n);
+    lagrange_block<true, true, W>(nb, ln, dA, nbas, p0, wq, pad, X, F, Ac, Al);
+    weighted_normal<W>(Ac, Al, wq, sg, n);
     const vl rx = X[0] - x0[0], ry = X[1] - x0[1], rz = X[2] - x0[2];
     vl ir = rx * rx + ry * ry + rz * rz + pad;
-    inv_sqrt(ir);
+    inv_sqrt<W>(ir);
     const vl rq = rx * (F[0] - u0[0]) + ry * (F[1] - u0[1]) + rz * (F[2] - u0[2]);
     const vl ir2 = ir * ir;
     const vl a = -6.0 * rq * (rx * n[0] + ry * n[1] + rz * n[2]) * (ir2 * ir2 * ir);
-    s[0] += a * rx;
-    s[1] += a * ry;
-    s[2] += a * rz;
+    s.s[0][h] += a * rx;
+    s.s[1][h] += a * ry;
+    s.s[2][h] += a * rz;
   }
-  for (int c = 0; c < 3; ++c) out[c] += hsum(s[c]);
+  s.add_to(out);
 }
 
 // INT T.n dS over one line: out[0..8] (column-major 3 x 3) += sum -6 (r.n) r r^T / r^5.
+template <int W>
 CAPFLOW_TARGET_CLONES("arch=x86-64-v4", "arch=x86-64-v3", "default")
 void double_normal_line(int nb, const LagrangeLine& ln, const NodalBasis& nbas, double sg,
                         const double* x0, double* out) {
+  using vl = vec<W>;
   double dA[3 * kMaxNb];
   along_derivative(nb, ln.A, nbas.diff, dA);
-  vl s[9];
-  for (vl& v : s) v = kZero;
-  for (int p0 = 0; p0 < ln.m; p0 += kW) {
+  LineSums<W, 9> s;
+  for (int p0 = 0; p0 < ln.m; p0 += W) {
+    const int h = part_of<W>(p0);
     vl wq, pad, X[3], Ac[3], Al[3], n[3];
-    lagrange_block<false, true>(nb, ln, dA, nbas, p0, wq, pad, X, nullptr, Ac, Al);
-    weighted_normal(Ac, Al, wq, sg, n);
+    lagrange_block<false, true, W>(nb, ln, dA, nbas, p0, wq, pad, X, nullptr, Ac, Al);
+    weighted_normal<W>(Ac, Al, wq, sg, n);
     const vl r[3] = {X[0] - x0[0], X[1] - x0[1], X[2] - x0[2]};
     vl ir = r[0] * r[0] + r[1] * r[1] + r[2] * r[2] + pad;
-    inv_sqrt(ir);
+    inv_sqrt<W>(ir);
     const vl ir2 = ir * ir;
     const vl a = -6.0 * (r[0] * n[0] + r[1] * n[1] + r[2] * n[2]) * (ir2 * ir2 * ir);
     for (int col = 0; col < 3; ++col) {
       const vl ac = a * r[col];
-      for (int row = 0; row < 3; ++row) s[3 * col + row] += ac * r[row];
+      for (int row = 0; row < 3; ++row) s.s[3 * col + row][h] += ac * r[row];
     }
   }
-  for (int c = 0; c < 9; ++c) out[c] += hsum(s[c]);
+  s.add_to(out);
 }
 
 // The single layer with g = J f interpolated (A: x, g at the along nodes): out[0..2] += sum w
 // (g / r + (r.g) r / r^3).
+template <int W>
 CAPFLOW_TARGET_CLONES("arch=x86-64-v4", "arch=x86-64-v3", "default")
 void jf_line(int nb, const LagrangeLine& ln, const NodalBasis& nbas, const double* x0,
              double* out) {
-  vl s[3] = {kZero, kZero, kZero};
-  for (int p0 = 0; p0 < ln.m; p0 += kW) {
+  using vl = vec<W>;
+  LineSums<W, 3> s;
+  for (int p0 = 0; p0 < ln.m; p0 += W) {
+    const int h = part_of<W>(p0);
     vl wq, pad, X[3], G[3];
-    lagrange_block<true, false>(nb, ln, nullptr, nbas, p0, wq, pad, X, G, nullptr, nullptr);
+    lagrange_block<true, false, W>(nb, ln, nullptr, nbas, p0, wq, pad, X, G, nullptr, nullptr);
     const vl rx = X[0] - x0[0], ry = X[1] - x0[1], rz = X[2] - x0[2];
     vl ir = rx * rx + ry * ry + rz * rz + pad;
-    inv_sqrt(ir);
+    inv_sqrt<W>(ir);
     const vl a = wq * ir;
     const vl b = a * ir * ir * (rx * G[0] + ry * G[1] + rz * G[2]);
-    s[0] += a * G[0] + b * rx;
-    s[1] += a * G[1] + b * ry;
-    s[2] += a * G[2] + b * rz;
+    s.s[0][h] += a * G[0] + b * rx;
+    s.s[1][h] += a * G[1] + b * ry;
+    s.s[2][h] += a * G[2] + b * rz;
   }
-  for (int c = 0; c < 3; ++c) out[c] += hsum(s[c]);
+  s.add_to(out);
+}
+
+// Stage 2 of every line of rule R (stage 1 done: sc.A, sc.B), W points at a time.
+template <Mode M, int W>
+void lines_stage2(int nb, const LineRule& R, const NodalBasis& basis, double sign,
+                  const Vector3d& x0, const Vector3d& u0, Scratch& sc, double* acc) {
+  const int nl = R.nl(), n0 = R.n0;
+  for (int l = 0; l < nl; ++l) {
+    const int m = R.start[l + 1] - R.start[l];
+    if (m == 0) continue;
+    if constexpr (M == Mode::Single) {
+      (void)sign;  // |n| does not depend on the orientation
+      (void)u0;
+      single_line<W>(nb, m, sc.A.row(l).data(), sc.B.row(l).data(), R.base[l], R.scale[l],
+                     R.line_off(l), R.wscale[l], R.line_wedge(l), x0.data(), acc);
+      continue;
+    }
+    // n = x_s x x_t: constant-s lines: x_s = d/d(across), x_t = d/d(along); constant-t lines:
+    // swapped.
+    const double sg = l < n0 ? sign : -sign;
+    const LagrangeLine ln{sc.A.row(l).data(), sc.B.row(l).data(), R.base[l],       R.scale[l],
+                          R.line_off(l),      R.wscale[l],        R.line_wedge(l), m};
+    if constexpr (M == Mode::SingleNormal)
+      normal_line<W>(nb, ln, basis, sg, x0.data(), acc);
+    else if constexpr (M == Mode::Double)
+      double_line<W>(nb, ln, basis, sg, x0.data(), u0.data(), acc);
+    else if constexpr (M == Mode::DoubleNormal)
+      double_normal_line<W>(nb, ln, basis, sg, x0.data(), acc);
+  }
+}
+
+// The same for the single layer with J f interpolated (no tangents: sc.B is not read).
+template <int W>
+void jf_lines_stage2(int nb, const LineRule& R, const NodalBasis& basis, const Vector3d& x0,
+                     Scratch& sc, double* acc) {
+  for (int l = 0; l < R.nl(); ++l) {
+    const int m = R.start[l + 1] - R.start[l];
+    if (m == 0) continue;
+    const LagrangeLine ln{sc.A.row(l).data(), nullptr,     R.base[l],       R.scale[l],
+                          R.line_off(l),      R.wscale[l], R.line_wedge(l), m};
+    jf_line<W>(nb, ln, basis, x0.data(), acc);
+  }
 }
 
 }  // namespace
@@ -379,33 +449,9 @@ void line_sum(int nb, int K_arg, const LineRule& R, const NodalBasis& basis, dou
   // the number of interpolated quantities is the mode's (a constant for the compiler)
   constexpr int K = uses_density(M) ? 6 : 3;
   if (K_arg != K) throw std::invalid_argument("line_sum: K does not match the mode");
-  const int nl = R.nl(), n0 = R.n0;
   across_lines(nb, K, R, sc);
-  if constexpr (M == Mode::Single) {
-    (void)sign;  // |n| does not depend on the orientation
-    for (int l = 0; l < nl; ++l) {
-      const int p0 = R.start[l], m = R.start[l + 1] - p0;
-      if (m > 0)
-        single_line(nb, m, sc.A.row(l).data(), sc.B.row(l).data(), R.base[l], R.scale[l],
-                    R.line_off(l), R.wscale[l], R.line_wedge(l), x0.data(), acc);
-    }
-  } else {
-    for (int l = 0; l < nl; ++l) {
-      const int m = R.start[l + 1] - R.start[l];
-      if (m == 0) continue;
-      // n = x_s x x_t: constant-s lines: x_s = d/d(across), x_t = d/d(along); constant-t lines:
-      // swapped.
-      const double sg = l < n0 ? sign : -sign;
-      const LagrangeLine ln{sc.A.row(l).data(), sc.B.row(l).data(), R.base[l],       R.scale[l],
-                            R.line_off(l),      R.wscale[l],        R.line_wedge(l), m};
-      if constexpr (M == Mode::SingleNormal)
-        normal_line(nb, ln, basis, sg, x0.data(), acc);
-      else if constexpr (M == Mode::Double)
-        double_line(nb, ln, basis, sg, x0.data(), u0.data(), acc);
-      else
-        double_normal_line(nb, ln, basis, sg, x0.data(), acc);
-    }
-  }
+  at_simd_width(
+      [&](auto w) { lines_stage2<M, decltype(w)::value>(nb, R, basis, sign, x0, u0, sc, acc); });
 }
 
 template void line_sum<Mode::Single>(int, int, const LineRule&, const NodalBasis&, double,
@@ -430,12 +476,6 @@ void line_sum_jf(int nb, const LineRule& R, const NodalBasis& basis, const Vecto
   if (n1 > 0)
     stage1(nb, n1, Kn, 0, R.Lc.col(n0).data(), R.dLc.col(n0).data(), sc.D1.data(), sc.D1.cols(),
            sc.A.row(n0).data(), sc.A.cols(), sc.B.row(n0).data(), sc.B.cols());
-  for (int l = 0; l < nl; ++l) {
-    const int m = R.start[l + 1] - R.start[l];
-    if (m == 0) continue;
-    const LagrangeLine ln{sc.A.row(l).data(), nullptr,     R.base[l],       R.scale[l],
-                          R.line_off(l),      R.wscale[l], R.line_wedge(l), m};
-    jf_line(nb, ln, basis, x0.data(), acc);
-  }
+  at_simd_width([&](auto w) { jf_lines_stage2<decltype(w)::value>(nb, R, basis, x0, sc, acc); });
 }
 }  // namespace capflow::stokes

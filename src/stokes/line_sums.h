@@ -1,10 +1,11 @@
 // capflow/stokes/line_sums: the kernel sums over the points of a special quadrature rule
 // (line_rule.h) on one element: the element's nodal data in the rule's orientation, stage 1 (the
 // 1-D interpolation across the lines) and stage 2 (per point, along the line) with the kernel.
-// The single layer's hot loops (stage 1, stage 2 + kernel in register blocks of 4 points) are
-// compiled for x86-64-v4, x86-64-v3 and the baseline and chosen at load time
-// (spectral/target_clones.h); so are the other modes' stage 2 loops, which make the Lagrange bases
-// along the line at each point in registers (no point bases are stored or read).
+// The single layer's hot loops (stage 1, stage 2 + kernel in register blocks of 8 points, as
+// vectors of the clone's width, spectral/simd_width.h) are compiled for x86-64-v4, x86-64-v3 and
+// the baseline and chosen at load time (spectral/target_clones.h); so are the other modes' stage 2
+// loops, which make the Lagrange bases along the line at each point in registers (no point bases
+// are stored or read).
 #pragma once
 
 #include <Eigen/Dense>

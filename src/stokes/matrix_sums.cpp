@@ -16,8 +16,8 @@ using namespace detail;  // NOLINT: the shared stage-2 pieces (lagrange_line.h)
 namespace {
 
 // The six entries (xx, yy, zz, xy, xz, yz) of the double-layer kernel -6 (r.n) r r^T / r^5 at a
-// point, n the weighted normal w J n and ir = 1 / |r|: for a block of points (vl) in the special
-// rules and for one Gauss point (double) in the far tiers.
+// point, n the weighted normal w J n and ir = 1 / |r|: for a vector of points (vec<W>) in the
+// special rules and for one Gauss point (double) in the far tiers.
 template <class T>
 [[gnu::always_inline]] inline void kernel_entries(T rx, T ry, T rz, T nx, T ny, T nz, T ir, T& kxx,
                                                   T& kyy, T& kzz, T& kxy, T& kxz, T& kyz) {
@@ -35,11 +35,14 @@ template <class T>
 // NP points of a line group (one per lane and line): their Lagrange bases along the lines into
 // L[q] and the 6 entries of the kernel (times w J) into k[q], added to tot. The points go side by
 // side (independent product chains for the bases, one load of the nodal data for all).
-template <int NP>
-[[gnu::always_inline]] inline void kernel_points(int nb, const vl* ov, const vl* wq, double sg,
-                                                 const NodalBasis& nbas, const vl* A, const vl* B,
-                                                 const vl* dA, const double* x0, vl (*L)[kMaxNb],
-                                                 vl (*k)[6], vl* tot) {
+template <int NP, int W>
+[[gnu::always_inline]] inline void kernel_points(int nb, const vec<W>* ov, const vec<W>* wq,
+                                                 double sg, const NodalBasis& nbas, const vec<W>* A,
+                                                 const vec<W>* B, const vec<W>* dA,
+                                                 const double* x0, vec<W> (*L)[kMaxNb],
+                                                 vec<W> (*k)[6], vec<W>* tot) {
+  using vl = vec<W>;
+  const vl kZero = zeros<W>(), kOne = ones<W>();
   vl pre[NP][kMaxNb];  // c_j prod_{k < j} (o - x_k)
   vl P[NP];
   for (int q = 0; q < NP; ++q) P[q] = kOne;
@@ -71,32 +74,36 @@ template <int NP>
   }
   for (int q = 0; q < NP; ++q) {
     vl nv[3];
-    weighted_normal(Ac[q], Al[q], wq[q], sg, nv);
+    weighted_normal<W>(Ac[q], Al[q], wq[q], sg, nv);
     const vl rx = X[q][0] - x0[0], ry = X[q][1] - x0[1], rz = X[q][2] - x0[2];
     vl ir = rx * rx + ry * ry + rz * rz;
-    inv_sqrt(ir);
+    inv_sqrt<W>(ir);
     kernel_entries(rx, ry, rz, nv[0], nv[1], nv[2], ir, k[q][0], k[q][1], k[q][2], k[q][3], k[q][4],
                    k[q][5]);
     for (int c = 0; c < 6; ++c) tot[c] += k[q][c];
   }
 }
 
-// Up to kW lines of one edge point set (lines l0 .. l0 + n - 1: the same points along, at
+// Up to W lines of one edge point set (lines l0 .. l0 + n - 1: the same points along, at
 // different ray fractions), one line per lane: Gt(c nb + j, l) = sum over line l's points of
-// K_c L_j(along), total[c] += sum K_c. The lanes of a block are one point index of every line, so
-// a line's sums stay in its lane (no horizontal sums per line) and the lines of one edge fill the
-// lanes evenly. The points in chunks of kChunk: their bases and kernel values stay on the stack,
-// and each Gt entry gets one chunk's products summed in a register. Lanes past n repeat line
-// l0 + n - 1 with weight 0; Gt gets kW columns from l0 on (the columns past n belong to the next
-// group or lie past the rule).
-CAPFLOW_TARGET_CLONES("arch=x86-64-v4", "arch=x86-64-v3", "default")
-void matrix_lines(int nb, const LineRule& R, int l0, int n, const double* D, long ldD,
-                  const NodalBasis& nbas, double sg, const double* x0, double* Gt, long ldG,
-                  double* total) {
+// K_c L_j(along), tot[c] += K_c. The lanes are one point index of every line, so a line's sums
+// stay in its lane (no horizontal sums per line) and the lines of one edge fill the lanes evenly.
+// The points in chunks of kChunk: their bases and kernel values stay on the stack, and each Gt
+// entry gets one chunk's products summed in a register. Lanes past n repeat line l0 + n - 1 with
+// weight 0; Gt gets W columns from l0 on (the columns past n belong to the next group or lie past
+// the rule).
+template <int W>
+[[gnu::always_inline]] inline void matrix_part(int nb, const LineRule& R, int l0, int n,
+                                               const double* D, long ldD, const NodalBasis& nbas,
+                                               double sg, const double* x0, double* Gt, long ldG,
+                                               vec<W>* tot) {
+  using vl = vec<W>;
+  const vl kZero = zeros<W>();
   constexpr int kChunk = 4;
+  constexpr int kPair = W == 8 ? 2 : 1;  // points side by side (two spill the 16 AVX2 registers)
   vl A[3 * kMaxNb + 4], B[3 * kMaxNb + 4], dA[3 * kMaxNb];  // + 4: stage 1 fills whole fours
   vl base, scale, wscale, Lc[kMaxNb], dLc[kMaxNb];
-  for (int q = 0; q < kW; ++q) {
+  for (int q = 0; q < W; ++q) {
     const int l = l0 + std::min(q, n - 1);
     for (int i = 0; i < nb; ++i) {
       Lc[i][q] = R.Lc(i, l);
@@ -142,20 +149,18 @@ void matrix_lines(int nb, const LineRule& R, int l0, int n, const double* D, lon
   vl g[6][kMaxNb];
   for (vl* gc : g)
     for (int j = 0; j < nb; ++j) gc[j] = kZero;
-  vl tot[6];
-  for (vl& v : tot) v = kZero;
   for (int p0 = 0; p0 < m; p0 += kChunk) {
     vl L[kChunk][kMaxNb], k[kChunk][6];
     const int points = std::min(kChunk, m - p0);
     int q = 0;
-    for (; q + 1 < points; q += 2) {
+    for (; kPair == 2 && q + 1 < points; q += 2) {
       const vl ov[2] = {base + scale * off[p0 + q], base + scale * off[p0 + q + 1]};
       const vl wq[2] = {wscale * wedge[p0 + q], wscale * wedge[p0 + q + 1]};
-      kernel_points<2>(nb, ov, wq, sg, nbas, A, B, dA, x0, L + q, k + q, tot);
+      kernel_points<2, W>(nb, ov, wq, sg, nbas, A, B, dA, x0, L + q, k + q, tot);
     }
-    if (q < points) {
+    for (; q < points; ++q) {
       const vl ov[1] = {base + scale * off[p0 + q]}, wq[1] = {wscale * wedge[p0 + q]};
-      kernel_points<1>(nb, ov, wq, sg, nbas, A, B, dA, x0, L + q, k + q, tot);
+      kernel_points<1, W>(nb, ov, wq, sg, nbas, A, B, dA, x0, L + q, k + q, tot);
     }
     if (points == kChunk) {
       // a whole chunk: the kernel values stay in registers, each basis is loaded once
@@ -179,7 +184,26 @@ void matrix_lines(int nb, const LineRule& R, int l0, int n, const double* D, lon
   }
   for (int c = 0; c < 6; ++c)
     for (int j = 0; j < nb; ++j) std::memcpy(Gt + (c * nb + j) * ldG + l0, &g[c][j], sizeof(vl));
-  for (int c = 0; c < 6; ++c) total[c] += hsum(tot[c]);
+}
+
+// Up to kBlock lines of one edge point set (lines l0 .. l0 + n - 1), in parts of W lines
+// (matrix_part), total[c] += sum K_c over all their points, summed over the kBlock lanes in one
+// order for every width.
+template <int W>
+CAPFLOW_TARGET_CLONES("arch=x86-64-v4", "arch=x86-64-v3", "default")
+void matrix_lines(int nb, const LineRule& R, int l0, int n, const double* D, long ldD,
+                  const NodalBasis& nbas, double sg, const double* x0, double* Gt, long ldG,
+                  double* total) {
+  vec<W> tot[6][kParts<W>];
+  for (auto& c : tot)
+    for (vec<W>& v : c) v = zeros<W>();
+  for (int h = 0; h < kParts<W> && h * W < n; ++h) {
+    vec<W> t[6];
+    for (vec<W>& v : t) v = zeros<W>();
+    matrix_part<W>(nb, R, l0 + h * W, std::min(W, n - h * W), D, ldD, nbas, sg, x0, Gt, ldG, t);
+    for (int c = 0; c < 6; ++c) tot[c][h] = t[c];
+  }
+  for (int c = 0; c < 6; ++c) total[c] += hsum<W>(tot[c]);
 }
 
 }  // namespace
@@ -187,22 +211,25 @@ void matrix_lines(int nb, const LineRule& R, int l0, int n, const double* D, lon
 void line_matrix(int nb, const LineRule& R, const NodalBasis& basis, double sign,
                  const Vector3d& x0, Scratch& sc, MatrixWorkspace& ws, MatrixXd& E, double* total) {
   const int nl = R.nl(), n0 = R.n0, n1 = nl - n0;
-  // Per line the kernel sums against the bases along it (Gt(c nb + j, l)), in groups of up to kW
-  // lines of one edge point set (they never straddle n0: an edge's lines share an orientation);
-  // then the bases across times them in two products: constant-s lines (across s = node index
-  // a, along t = b) into Es(a, c nb + b), constant-t lines (across t = b, along s = a) into
-  // Et(b, c nb + a). A group writes kW columns, so Gt holds kW more than the lines.
+  // Per line the kernel sums against the bases along it (Gt(c nb + j, l)), in groups of up to
+  // kBlock lines of one edge point set (they never straddle n0: an edge's lines share an
+  // orientation); then the bases across times them in two products: constant-s lines (across
+  // s = node index a, along t = b) into Es(a, c nb + b), constant-t lines (across t = b, along
+  // s = a) into Et(b, c nb + a). A group writes up to kBlock columns, so Gt holds kBlock more than
+  // the lines.
   RowMat& Gt = ws.Gt;
-  if (Gt.rows() != 6 * nb || Gt.cols() < nl + kW) Gt.resize(6 * nb, nl + kW);
-  for (int l = 0; l < nl;) {
-    int n = 1;
-    while (n < kW && l + n < nl && R.set[l + n] == R.set[l]) ++n;
-    const double sg = l < n0 ? sign : -sign;   // as line_sum: the tangents swap roles
-    const RowMat& D = l < n0 ? sc.D0 : sc.D1;  // the element data with the across index as row
-    matrix_lines(nb, R, l, n, D.data(), D.cols(), basis, sg, x0.data(), Gt.data(), Gt.cols(),
-                 total);
-    l += n;
-  }
+  if (Gt.rows() != 6 * nb || Gt.cols() < nl + kBlock) Gt.resize(6 * nb, nl + kBlock);
+  at_simd_width([&](auto w) {
+    for (int l = 0; l < nl;) {
+      int n = 1;
+      while (n < kBlock && l + n < nl && R.set[l + n] == R.set[l]) ++n;
+      const double sg = l < n0 ? sign : -sign;   // as line_sum: the tangents swap roles
+      const RowMat& D = l < n0 ? sc.D0 : sc.D1;  // the element data with the across index as row
+      matrix_lines<decltype(w)::value>(nb, R, l, n, D.data(), D.cols(), basis, sg, x0.data(),
+                                       Gt.data(), Gt.cols(), total);
+      l += n;
+    }
+  });
   RowMat &Es = ws.Es, &Et = ws.Et;
   if (n0 > 0)
     Es.noalias() = R.Lc.leftCols(n0) * Gt.leftCols(n0).transpose();

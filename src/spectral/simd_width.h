@@ -1,0 +1,19 @@
+// capflow/spectral/simd_width: how many doubles the hot kernels' vector blocks hold on this CPU.
+// The kernels are templates on that width (stokes/lagrange_line.h) with load-time clones per
+// instruction set (target_clones.h), and each clone is fast only at its own width: 8 (one 512-bit
+// register) in the x86-64-v4 clones (AVX-512), 4 in the x86-64-v3 ones (AVX2), 2 (SSE) or the
+// build's own width in the baseline. Wider blocks than the registers spill to the stack (the
+// AVX2 clones of the 8-wide kernels were ~5.6x slower, docs/performance.md "Instruction set").
+// Every width adds the same numbers in the same order, so the results do not depend on it.
+#pragma once
+
+namespace capflow::spectral {
+
+// The widest block of the clones this CPU runs (8, 4 or 2), within limit_simd_width's limit.
+int simd_width();
+
+// Caps simd_width at w (8, 4 or 2; anything else throws std::invalid_argument): for tests and
+// benchmarks of the narrower kernels on a wider CPU. Not for use while kernels run.
+void limit_simd_width(int w);
+
+}  // namespace capflow::spectral
