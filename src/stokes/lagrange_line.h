@@ -68,15 +68,6 @@ struct LagrangeLine {
   int m;
 };
 
-template <int W>
-[[gnu::always_inline]] inline vec<W> zeros() {
-  return vec<W>{};
-}
-template <int W>
-[[gnu::always_inline]] inline vec<W> ones() {
-  return vec<W>{} + 1.0;
-}
-
 // r2 <- 1 / sqrt(r2), lane by lane (in place: a vector return value would change the baseline
 // clone's ABI)
 template <int W>
@@ -108,7 +99,7 @@ template <bool Density, bool Tangents, int W>
                                                   vec<W>& pad, vec<W>* X, vec<W>* F, vec<W>* Ac,
                                                   vec<W>* Al) {
   using vl = vec<W>;
-  const vl kZero = zeros<W>(), kOne = ones<W>();
+  const vl kZero = vec<W>{}, kOne = vec<W>{} + 1.0;
   vl ov;
   for (int q = 0; q < W; ++q) {
     const bool in = p0 + q < ln.m;

@@ -103,6 +103,60 @@ namespace {
 // = k U_{k-1} with U likewise. Compiled three times (x86-64-v4 with AVX-512, x86-64-v3 with
 // AVX2/FMA, and the default), chosen at load time, for the width W of each (lagrange_line.h).
 typedef double v4d __attribute__((vector_size(32)));
+
+// Stage 2 of the single layer at the points ov of a line: Values, the position and density
+// V = (x, f) from the Chebyshev coefficients A (6 nb), and Tangents, D = (x_across, x_along) from
+// B (3 nb) and kx = k A (the along derivative's U weights), by T_{k+1} = 2 o T_k - T_{k-1} and
+// U likewise. Each sum runs over k in order, so one pass or two give the same bits.
+template <int W, bool Values, bool Tangents>
+[[gnu::always_inline]] inline void chebyshev_sums(int nb, const double* A, const double* B,
+                                                  const double* kx, vec<W> ov, vec<W>* V,
+                                                  vec<W>* D) {
+  using vl = vec<W>;
+  const vl zero = vec<W>{}, one = vec<W>{} + 1.0;
+  const vl o2 = ov + ov;
+  vl X0, X1, X2, F0, F1, F2, A0, A1, A2, O0, O1, O2;
+  if constexpr (Values) {
+    X0 = A[0] * one, X1 = A[nb] * one, X2 = A[2 * nb] * one;
+    F0 = A[3 * nb] * one, F1 = A[4 * nb] * one, F2 = A[5 * nb] * one;
+  }
+  if constexpr (Tangents) {
+    A0 = B[0] * one, A1 = B[nb] * one, A2 = B[2 * nb] * one;
+    O0 = zero, O1 = zero, O2 = zero;
+  }
+  vl Tm = one, T = ov, Um = zero, U = one;  // T_{k-1}, T_k, U_{k-2}, U_{k-1} at k = 1
+  for (int k = 1; k < nb; ++k) {
+    if constexpr (Values) {
+      X0 += A[k] * T;
+      X1 += A[nb + k] * T;
+      X2 += A[2 * nb + k] * T;
+      F0 += A[3 * nb + k] * T;
+      F1 += A[4 * nb + k] * T;
+      F2 += A[5 * nb + k] * T;
+    }
+    if constexpr (Tangents) {
+      A0 += B[k] * T;
+      A1 += B[nb + k] * T;
+      A2 += B[2 * nb + k] * T;
+      O0 += kx[k] * U;
+      O1 += kx[nb + k] * U;
+      O2 += kx[2 * nb + k] * U;
+      const vl Un = o2 * U - Um;
+      Um = U;
+      U = Un;
+    }
+    const vl Tn = o2 * T - Tm;
+    Tm = T;
+    T = Tn;
+  }
+  if constexpr (Values) {
+    V[0] = X0, V[1] = X1, V[2] = X2, V[3] = F0, V[4] = F1, V[5] = F2;
+  }
+  if constexpr (Tangents) {
+    D[0] = A0, D[1] = A1, D[2] = A2, D[3] = O0, D[4] = O1, D[5] = O2;
+  }
+}
+
 template <int W>
 CAPFLOW_TARGET_CLONES("arch=x86-64-v4", "arch=x86-64-v3", "default")
 void single_line(int nb, int m, const double* A, const double* B, double base, double scale,
@@ -112,7 +166,7 @@ void single_line(int nb, int m, const double* A, const double* B, double base, d
   double kx[3 * kMaxNb];  // k c_k of the position's coefficients (the derivative's U weights)
   for (int c = 0; c < 3; ++c)
     for (int k = 0; k < nb; ++k) kx[c * nb + k] = k * A[c * nb + k];
-  const vl zero = zeros<W>(), one = ones<W>();
+  const vl zero = vec<W>{}, one = vec<W>{} + 1.0;
   const vl x00 = x0[0] * one, x01 = x0[1] * one, x02 = x0[2] * one;
   vl s0[kParts<W>], s1[kParts<W>], s2[kParts<W>];
   for (int h = 0; h < kParts<W>; ++h) s0[h] = s1[h] = s2[h] = zero;
@@ -125,31 +179,16 @@ void single_line(int nb, int m, const double* A, const double* B, double base, d
       wq[q] = in ? wscale * wedge[p0 + q] : 0.0;
       pad[q] = in ? 0.0 : 1.0;
     }
-    const vl o2 = ov + ov;
-    vl X0 = A[0] * one, X1 = A[nb] * one, X2 = A[2 * nb] * one;
-    vl F0 = A[3 * nb] * one, F1 = A[4 * nb] * one, F2 = A[5 * nb] * one;
-    vl A0 = B[0] * one, A1 = B[nb] * one, A2 = B[2 * nb] * one;
-    vl O0 = zero, O1 = zero, O2 = zero;
-    vl Tm = one, T = ov, Um = zero, U = one;  // T_{k-1}, T_k, U_{k-2}, U_{k-1} at k = 1
-    for (int k = 1; k < nb; ++k) {
-      X0 += A[k] * T;
-      X1 += A[nb + k] * T;
-      X2 += A[2 * nb + k] * T;
-      F0 += A[3 * nb + k] * T;
-      F1 += A[4 * nb + k] * T;
-      F2 += A[5 * nb + k] * T;
-      A0 += B[k] * T;
-      A1 += B[nb + k] * T;
-      A2 += B[2 * nb + k] * T;
-      O0 += kx[k] * U;
-      O1 += kx[nb + k] * U;
-      O2 += kx[2 * nb + k] * U;
-      const vl Tn = o2 * T - Tm, Un = o2 * U - Um;
-      Tm = T;
-      T = Tn;
-      Um = U;
-      U = Un;
+    // the 12 sums in one pass with 32 vector registers (AVX-512), in two with 16
+    vl V[6], D[6];
+    if constexpr (W == kBlock) {
+      chebyshev_sums<W, true, true>(nb, A, B, kx, ov, V, D);
+    } else {
+      chebyshev_sums<W, true, false>(nb, A, B, kx, ov, V, D);
+      chebyshev_sums<W, false, true>(nb, A, B, kx, ov, V, D);
     }
+    const vl &X0 = V[0], &X1 = V[1], &X2 = V[2], &F0 = V[3], &F1 = V[4], &F2 = V[5];
+    const vl &A0 = D[0], &A1 = D[1], &A2 = D[2], &O0 = D[3], &O1 = D[4], &O2 = D[5];
     const vl nx = A1 * O2 - A2 * O1;
     const vl ny = A2 * O0 - A0 * O2;
     const vl nz = A0 * O1 - A1 * O0;
@@ -273,7 +312,7 @@ struct LineSums {
   vec<W> s[C][kParts<W>];
   LineSums() {
     for (auto& c : s)
-      for (vec<W>& v : c) v = zeros<W>();
+      for (vec<W>& v : c) v = vec<W>{};
   }
   void add_to(double* out) const {
     for (int c = 0; c < C; ++c) out[c] += hsum<W>(s[c]);

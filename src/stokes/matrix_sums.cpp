@@ -42,7 +42,7 @@ template <int NP, int W>
                                                  const double* x0, vec<W> (*L)[kMaxNb],
                                                  vec<W> (*k)[6], vec<W>* tot) {
   using vl = vec<W>;
-  const vl kZero = zeros<W>(), kOne = ones<W>();
+  const vl kZero = vec<W>{}, kOne = vec<W>{} + 1.0;
   vl pre[NP][kMaxNb];  // c_j prod_{k < j} (o - x_k)
   vl P[NP];
   for (int q = 0; q < NP; ++q) P[q] = kOne;
@@ -98,7 +98,7 @@ template <int W>
                                                double sg, const double* x0, double* Gt, long ldG,
                                                vec<W>* tot) {
   using vl = vec<W>;
-  const vl kZero = zeros<W>();
+  const vl kZero = vec<W>{};
   constexpr int kChunk = 4;
   constexpr int kPair = W == 8 ? 2 : 1;  // points side by side (two spill the 16 AVX2 registers)
   vl A[3 * kMaxNb + 4], B[3 * kMaxNb + 4], dA[3 * kMaxNb];  // + 4: stage 1 fills whole fours
@@ -196,10 +196,10 @@ void matrix_lines(int nb, const LineRule& R, int l0, int n, const double* D, lon
                   double* total) {
   vec<W> tot[6][kParts<W>];
   for (auto& c : tot)
-    for (vec<W>& v : c) v = zeros<W>();
+    for (vec<W>& v : c) v = vec<W>{};
   for (int h = 0; h < kParts<W> && h * W < n; ++h) {
     vec<W> t[6];
-    for (vec<W>& v : t) v = zeros<W>();
+    for (vec<W>& v : t) v = vec<W>{};
     matrix_part<W>(nb, R, l0 + h * W, std::min(W, n - h * W), D, ldD, nbas, sg, x0, Gt, ldG, t);
     for (int c = 0; c < 6; ++c) tot[c][h] = t[c];
   }
