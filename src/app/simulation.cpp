@@ -39,6 +39,7 @@
 #include "parallel/team.h"
 #include "render/render_thread.h"
 #include "render/snapshot.h"
+#include "spectral/simd_width.h"
 
 namespace capflow::app {
 
@@ -566,7 +567,8 @@ struct Simulation::Impl {
                           : fixed_or_sci(o.time.dt))
       << ", t_end=" << o.time.t_end << ", " << omp_get_max_threads() << " threads"
       << (parallel::size() > 1 ? " x " + std::to_string(parallel::size()) + " MPI ranks" : "")
-      << ", symmetry targets " << cap->symmetry().targets().size() << "/" << mesh->num_unique();
+      << ", kernels " << spectral::simd_width_name() << ", symmetry targets "
+      << cap->symmetry().targets().size() << "/" << mesh->num_unique();
     if (o.numerics.quadrature_scale != 1.0)
       m << ", quadrature orders x" << o.numerics.quadrature_scale;
     m << " -> " << dir->path().string();

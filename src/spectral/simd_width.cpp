@@ -44,6 +44,17 @@ int simd_width() {
   return std::min(cpu, g_limit.load(std::memory_order_relaxed));
 }
 
+const char* simd_width_name() {
+  switch (simd_width()) {
+    case 8:
+      return "AVX-512, 8 doubles";
+    case 4:
+      return "AVX2, 4 doubles";
+    default:
+      return "SSE2, 2 doubles";
+  }
+}
+
 void limit_simd_width(int w) {
   if (w != 8 && w != 4 && w != 2)
     throw std::invalid_argument("limit_simd_width: the width must be 8, 4 or 2, not " +

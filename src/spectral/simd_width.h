@@ -12,6 +12,10 @@ namespace capflow::spectral {
 // The widest block of the clones this CPU runs (8, 4 or 2), within limit_simd_width's limit.
 int simd_width();
 
+// simd_width with its instruction set, for logs: "AVX-512, 8 doubles", "AVX2, 4 doubles" or
+// "SSE2, 2 doubles".
+const char* simd_width_name();
+
 // Caps simd_width at w (8, 4 or 2; anything else throws std::invalid_argument): for tests and
 // benchmarks of the narrower kernels on a wider CPU. Not for use while kernels run.
 void limit_simd_width(int w);

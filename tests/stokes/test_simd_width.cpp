@@ -5,6 +5,7 @@
 // and on a few targets near and on the surface.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <functional>
@@ -64,10 +65,14 @@ Matrix3Xd rough(int n, unsigned seed) {
 
 TEST(SimdWidth, IsOneTheKernelsHaveAndCanBeLimited) {
   WidthGuard guard;
+  spectral::limit_simd_width(8);
   const int cpu = spectral::simd_width();
   EXPECT_TRUE(cpu == 8 || cpu == 4 || cpu == 2) << cpu;
   spectral::limit_simd_width(2);
   EXPECT_EQ(spectral::simd_width(), 2);
+  EXPECT_STREQ(spectral::simd_width_name(), "SSE2, 2 doubles");
+  spectral::limit_simd_width(4);
+  EXPECT_EQ(spectral::simd_width(), std::min(cpu, 4));
   spectral::limit_simd_width(8);
   EXPECT_EQ(spectral::simd_width(), cpu);
   EXPECT_THROW(spectral::limit_simd_width(3), std::invalid_argument);
