@@ -24,9 +24,10 @@ void far_data(const geometry::Mesh& mesh, const Matrix3Xd& x, const Matrix3Xd* d
               const VectorXd& gw, const MatrixXd& I, const MatrixXd& Id, int e, FarData& F,
               double* esize) {
   const int nb = mesh.nb(), nb2 = nb * nb, nq = static_cast<int>(gw.size()), nqe = nq * nq;
-  // the thread's workspace, kept across calls (stokes/thread_buffers.h): allocated per call,
-  // these temporaries made the malloc arena grow and trim (~50 page faults a call at NE=6 NB=10)
-  FarWorkspace& ws = thread_buffers<M>().far_ws;
+  // the thread's workspace for this order, kept across calls (stokes/thread_buffers.h):
+  // allocated per call, these temporaries made the malloc arena grow and trim (~50 page faults a
+  // call at NE=6 NB=10)
+  FarWorkspace& ws = far_workspace(thread_buffers<M>(), nq);
   MatrixXd &X = ws.X, &XI = ws.XI, &IX = ws.IX;
   MatrixXd *xq = ws.xq, *xsq = ws.xsq, *xtq = ws.xtq, *dq = ws.dq;
   X.resize(nb, nb);

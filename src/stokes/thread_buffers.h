@@ -14,9 +14,10 @@
 
 namespace capflow::stokes {
 
-// far_data's temporaries: one element's coordinates (and density) at the Gauss points and their
-// derivatives.
+// far_data's temporaries for one Gauss order nq: one element's coordinates (and density) at the
+// Gauss points and their derivatives.
 struct FarWorkspace {
+  int nq = 0;  // the order they are sized for (0: not yet used)
   Eigen::MatrixXd X, XI, IX, xq[3], xsq[3], xtq[3], dq[3];
 };
 
@@ -25,9 +26,14 @@ struct ThreadBuffers {
                                   // its team
   std::vector<ChebElement> cheb;  // single layer: the elements in Chebyshev coefficients
   Scratch scratch;                // a team thread's element data and line buffers
-  FarWorkspace far_ws;            // a team thread's far_data temporaries
+  FarWorkspace far_ws[3];         // a team thread's far_data temporaries, one per far order
   MatrixWorkspace matrix;         // a team thread's matrix sums (the assembled double layer)
 };
+
+// b's far_data temporaries for Gauss order nq: one set per order, so that the tiers of a call
+// (up to three orders) do not resize each other's (which cost ~100 us of reallocation and page
+// faults at the first element of every tier, docs/performance.md "Two threads").
+FarWorkspace& far_workspace(ThreadBuffers& b, int nq);
 
 // The calling thread's buffers of mode M.
 template <Mode M>
