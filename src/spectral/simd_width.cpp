@@ -25,13 +25,13 @@ int cpu_width() {
 #if defined(CAPFLOW_NO_TARGET_CLONES)
   return build_width();
 #else
+  // the width of the clone the loader picks (the best listed level the CPU supports)
   __builtin_cpu_init();
-  int w = build_width();  // the baseline clone
 #if !defined(CAPFLOW_CLONES_UP_TO_V3)
-  if (__builtin_cpu_supports("x86-64-v4")) w = std::max(w, 8);
+  if (__builtin_cpu_supports("x86-64-v4")) return 8;
 #endif
-  if (__builtin_cpu_supports("x86-64-v3")) w = std::max(w, 4);
-  return w;
+  if (__builtin_cpu_supports("x86-64-v3")) return 4;
+  return build_width();  // the baseline clone
 #endif
 }
 

@@ -4,7 +4,8 @@
 // register) in the x86-64-v4 clones (AVX-512), 4 in the x86-64-v3 ones (AVX2), 2 (SSE) or the
 // build's own width in the baseline. Wider blocks than the registers spill to the stack (the
 // AVX2 clones of the 8-wide kernels were ~5.6x slower, docs/performance.md "Instruction set").
-// Every width adds the same numbers in the same order, so the results do not depend on it.
+// Every width adds the same numbers in the same order: within one clone the results have the same
+// bits at every width (the clones themselves may differ in rounding: the baseline has no FMA).
 #pragma once
 
 namespace capflow::spectral {

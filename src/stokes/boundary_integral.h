@@ -47,9 +47,9 @@
 // each point by recurrences (no per-point bases); the other modes use Lagrange bases along the
 // line, made at each point in registers by the product formula (none stored or read), which keep
 // the double layer's near-singular r.n accurate where the Chebyshev sum would lose digits
-// (line_sums.h). The hot loops (stage 1, stage 2 + kernel in blocks of 4 points for the single
-// layer and 8 for the others, far sums of the single layer) are compiled for x86-64-v4,
-// x86-64-v3 and the baseline and chosen at load time. Options: own_tolerance > 0
+// (line_sums.h). The hot loops (stage 1, stage 2 + kernel in blocks of 8 points held in vectors
+// of the CPU's width, spectral/simd_width.h, far sums of the single layer) are compiled for
+// x86-64-v4, x86-64-v3 and the baseline and chosen at load time. Options: own_tolerance > 0
 // selects the own rule per canonical node (fewest points meeting the tolerance against a high-order
 // rule on the sphere and an ellipsoid; own_rules.h); interpolate_jf interpolates J f from its nodal
 // values (6 values per point instead of 12: ~1.8x faster, but it changes the discrete operator by

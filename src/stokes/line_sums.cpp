@@ -101,7 +101,8 @@ namespace {
 // coordinate) with weights w_j = wscale wedge[j] (LineRule). Vectors of W points with the 12
 // interpolated values in registers (GCC vector extension): T_k by T_{k+1} = 2 o T_k - T_{k-1}, T_k'
 // = k U_{k-1} with U likewise. Compiled three times (x86-64-v4 with AVX-512, x86-64-v3 with
-// AVX2/FMA, and the default), chosen at load time, for the width W of each (lagrange_line.h).
+// AVX2/FMA, and the default), chosen at load time; at_simd_width calls the instance of the CPU's
+// width W (lagrange_line.h).
 typedef double v4d __attribute__((vector_size(32)));
 
 // Stage 2 of the single layer at the points ov of a line: Values, the position and density
@@ -310,11 +311,11 @@ namespace {
 template <int W, int C>
 struct LineSums {
   vec<W> s[C][kParts<W>];
-  LineSums() {
+  [[gnu::always_inline]] LineSums() {
     for (auto& c : s)
       for (vec<W>& v : c) v = vec<W>{};
   }
-  void add_to(double* out) const {
+  [[gnu::always_inline]] void add_to(double* out) const {
     for (int c = 0; c < C; ++c) out[c] += hsum<W>(s[c]);
   }
 };

@@ -21,14 +21,8 @@ template ThreadBuffers& thread_buffers<Mode::DoubleMatrix>();
 FarWorkspace& far_workspace(ThreadBuffers& b, int nq) {
   for (FarWorkspace& w : b.far_ws)
     if (w.nq == nq) return w;
-  for (FarWorkspace& w : b.far_ws)
-    if (w.nq == 0) {
-      w.nq = nq;
-      return w;
-    }
-  // more orders than sets (a caller outside the operators' three tiers): the last set is resized
-  b.far_ws[2].nq = nq;
-  return b.far_ws[2];
+  b.far_ws.emplace_back().nq = nq;  // a few orders per process: operators of other NB or orders
+  return b.far_ws.back();
 }
 
 void prepare_thread_buffers(int team) {

@@ -22,17 +22,18 @@ struct FarWorkspace {
 };
 
 struct ThreadBuffers {
-  FarData far[3];                 // a call's far data by tier: the calling thread's, shared with
-                                  // its team
-  std::vector<ChebElement> cheb;  // single layer: the elements in Chebyshev coefficients
-  Scratch scratch;                // a team thread's element data and line buffers
-  FarWorkspace far_ws[3];         // a team thread's far_data temporaries, one per far order
-  MatrixWorkspace matrix;         // a team thread's matrix sums (the assembled double layer)
+  FarData far[3];                    // a call's far data by tier: the calling thread's, shared with
+                                     // its team
+  std::vector<ChebElement> cheb;     // single layer: the elements in Chebyshev coefficients
+  Scratch scratch;                   // a team thread's element data and line buffers
+  std::vector<FarWorkspace> far_ws;  // a team thread's far_data temporaries, one per Gauss order
+  MatrixWorkspace matrix;            // a team thread's matrix sums (the assembled double layer)
 };
 
-// b's far_data temporaries for Gauss order nq: one set per order, so that the tiers of a call
-// (up to three orders) do not resize each other's (which cost ~100 us of reallocation and page
-// faults at the first element of every tier, docs/performance.md "Two threads").
+// b's far_data temporaries for Gauss order nq (made on first use; valid until the next call): one
+// set per order, so that the tiers of a call (up to three orders) do not resize each other's
+// (which cost ~100 us of reallocation and page faults at the first element of every tier,
+// docs/performance.md "Heap churn").
 FarWorkspace& far_workspace(ThreadBuffers& b, int nq);
 
 // The calling thread's buffers of mode M.

@@ -10,6 +10,9 @@
 #include <cstring>
 #include <functional>
 #include <random>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "geometry/mesh.h"
 #include "geometry/shapes.h"
