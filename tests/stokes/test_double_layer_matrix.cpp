@@ -9,11 +9,13 @@
 #include "geometry/mesh.h"
 #include "geometry/shapes.h"
 #include "stokes/boundary_integral.h"
+#include "stokes_test_util.h"
 
 using namespace capflow;
 using Eigen::Matrix3Xd;
 using Eigen::Vector3d;
 using Eigen::VectorXd;
+using stokes::testing::random_density;
 
 namespace {
 
@@ -22,14 +24,6 @@ double mismatch(const stokes::RowMat& a, const Eigen::Ref<const VectorXd>& v, co
   const VectorXd av = a * v;
   const Eigen::Map<const VectorXd> d(dl.data(), dl.size());
   return (av - d).cwiseAbs().maxCoeff() / d.cwiseAbs().maxCoeff();
-}
-
-Matrix3Xd random_density(int n, unsigned seed) {
-  std::mt19937 gen(seed);
-  std::uniform_real_distribution<double> uni(-1.0, 1.0);
-  Matrix3Xd u(3, n);
-  for (int m = 0; m < n; ++m) u.col(m) = Vector3d(uni(gen), uni(gen), uni(gen));
-  return u;
 }
 
 }  // namespace

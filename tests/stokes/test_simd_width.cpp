@@ -9,7 +9,6 @@
 #include <cstdio>
 #include <cstring>
 #include <functional>
-#include <random>
 #include <string>
 #include <utility>
 #include <vector>
@@ -18,11 +17,11 @@
 #include "geometry/shapes.h"
 #include "spectral/simd_width.h"
 #include "stokes/boundary_integral.h"
+#include "stokes_test_util.h"
 
 using namespace capflow;
 using Eigen::Matrix3Xd;
 using Eigen::MatrixXd;
-using Eigen::Vector3d;
 
 namespace {
 
@@ -56,14 +55,6 @@ void expect_same_at_every_width(const char* what, const std::function<MatrixXd()
   }
 }
 
-Matrix3Xd rough(int n, unsigned seed) {
-  std::mt19937 gen(seed);
-  std::uniform_real_distribution<double> uni(-1.0, 1.0);
-  Matrix3Xd u(3, n);
-  for (int m = 0; m < n; ++m) u.col(m) = Vector3d(uni(gen), uni(gen), uni(gen));
-  return u;
-}
-
 }  // namespace
 
 TEST(SimdWidth, IsOneTheKernelsHaveAndCanBeLimited) {
@@ -92,7 +83,7 @@ TEST(SimdWidth, EveryOperatorGivesTheSameBitsAtEveryWidth) {
     stokes::BoundaryOperators op_jf(mesh, jf);
     const Matrix3Xd x =
         geometry::map_points(mesh.reference(), geometry::ellipsoid_map(1.6, 0.7, 1.0));
-    const Matrix3Xd f = rough(mesh.num_local(), 5);
+    const Matrix3Xd f = stokes::testing::random_density(mesh.num_local(), 5);
     std::vector<int> targets;
     for (int m = 0; m < mesh.num_local(); m += 7) targets.push_back(m);
     // points near the surface (near rules) and on it
