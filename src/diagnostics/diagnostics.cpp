@@ -59,40 +59,79 @@ bool pierce_x_axis(const ElementEvaluator& ev, int e, double s, double t, const 
   return std::abs(s) <= 1.0 + 1e-9 && std::abs(t) <= 1.0 + 1e-9;
 }
 
+// How far p is from the +x axis through c, as the tangent of the angle; infinity behind c.
+double axis_distance(const Vector3d& p, const Vector3d& c) {
+  const Vector3d r = p - c;
+  if (r.x() <= 0) return std::numeric_limits<double>::infinity();
+  return std::hypot(r.y(), r.z()) / r.x();
+}
+
+// The node of element e closest to the +x axis through c (-1 if none lies in front of c).
+int element_node_nearest_axis(const Mesh& mesh, const Matrix3Xd& x, const Vector3d& c, int e) {
+  int best = -1;
+  double best_d = std::numeric_limits<double>::infinity();
+  for (int j = 0; j < mesh.nb(); ++j)
+    for (int i = 0; i < mesh.nb(); ++i) {
+      const double d = axis_distance(x.col(mesh.local(e, i, j)), c);
+      if (d < best_d) {
+        best_d = d;
+        best = j * mesh.nb() + i;
+      }
+    }
+  return best;
+}
+
+// The crossing of the +x axis through c with element e, by Newton from its node q (i + nb j):
+// false if Newton leaves the element or converges behind c.
+bool pierce_from(const Mesh& mesh, const ElementEvaluator& ev, const Vector3d& c, int e, int q,
+                 double* s, double* t) {
+  const int nb = mesh.nb();
+  return pierce_x_axis(ev, e, mesh.nodes()[q % nb], mesh.nodes()[q / nb], c, s, t) &&
+         ev.eval(e, *s, *t).x.x() > c.x();
+}
+
+// The normal curvature along e_y (the tangent closest to it) at (s, t) of element e.
+double curvature_along_y(const ElementEvaluator& ev, int e, double s, double t) {
+  const SurfacePoint p = ev.eval(e, s, t);
+  const Vector3d n = p.normal();
+  Eigen::Matrix2d g;
+  g << p.xs.dot(p.xs), p.xs.dot(p.xt), p.xs.dot(p.xt), p.xt.dot(p.xt);
+  Eigen::Matrix2d b;
+  b << n.dot(p.xss), n.dot(p.xst), n.dot(p.xst), n.dot(p.xtt);
+  const Eigen::Vector2d d = g.inverse() * Eigen::Vector2d(p.xs.y(), p.xt.y());
+  return std::abs(d.dot(b * d)) / d.dot(g * d);
+}
+
+// The edge curvature at the crossing of the +x axis through c. Newton starts from the node
+// closest to the axis, in each element sharing it; when the crossing lies in another element
+// (the closest node inside one element, the crossing just across its edge), every element is
+// tried from its own closest node. NaN when no element holds a crossing.
 double edge_curvature_at_tip(const Mesh& mesh, const Matrix3Xd& x, const ElementEvaluator& ev,
                              const Vector3d& c, Vector3d* tip) {
-  // Start from the node closest to the +x axis through c, among those with x > c_x.
+  const int nb = mesh.nb(), nb2 = nb * nb;
   int best = -1;
   double best_d = std::numeric_limits<double>::infinity();
   for (int m = 0; m < mesh.num_local(); ++m) {
-    const Vector3d r = x.col(m) - c;
-    if (r.x() <= 0) continue;
-    const double d = std::hypot(r.y(), r.z()) / r.x();
+    const double d = axis_distance(x.col(m), c);
     if (d < best_d) {
       best_d = d;
       best = m;
     }
   }
-  if (best < 0) throw std::runtime_error("edge curvature: no surface point with x > x_c");
-  const int nb = mesh.nb();
-  for (int q : mesh.classes()[mesh.unique_of()[best]]) {
-    const int e = q / (nb * nb);
-    double s, t;
-    if (!pierce_x_axis(ev, e, mesh.nodes()[q % nb], mesh.nodes()[(q / nb) % nb], c, &s, &t))
-      continue;
-    const SurfacePoint p = ev.eval(e, s, t);
-    const Vector3d n = p.normal();
-    Eigen::Matrix2d g;
-    g << p.xs.dot(p.xs), p.xs.dot(p.xt), p.xs.dot(p.xt), p.xt.dot(p.xt);
-    Eigen::Matrix2d b;
-    b << n.dot(p.xss), n.dot(p.xst), n.dot(p.xst), n.dot(p.xtt);
-    const Eigen::Vector2d d = g.inverse() * Eigen::Vector2d(p.xs.y(), p.xt.y());
-    *tip = p.x;
-    return std::abs(d.dot(b * d)) / d.dot(g * d);
+  double s, t;
+  auto found = [&](int e) {
+    *tip = ev.eval(e, s, t).x;
+    return curvature_along_y(ev, e, s, t);
+  };
+  if (best >= 0)
+    for (int q : mesh.classes()[mesh.unique_of()[best]])
+      if (pierce_from(mesh, ev, c, q / nb2, q % nb2, &s, &t)) return found(q / nb2);
+  for (int e = 0; e < mesh.ne(); ++e) {
+    const int q = element_node_nearest_axis(mesh, x, c, e);
+    if (q >= 0 && pierce_from(mesh, ev, c, e, q, &s, &t)) return found(e);
   }
-  throw std::runtime_error(
-      "edge curvature: the +x axis through the centroid does not cross "
-      "the surface near its tip");
+  *tip = c;
+  return std::numeric_limits<double>::quiet_NaN();
 }
 
 void assign_axes(ShapeDiagnostics* r, AxesMode mode) {

@@ -13,7 +13,9 @@
 //             best node (so extrema on element edges and corners are found too).
 //   edge_curvature: curvature of the z = z_c profile at its tip on the +x axis through x_c,
 //             = the normal curvature along e_y there (Meusnier): with d^a = g^ab (t_b.e_y),
-//             kappa = |b_ab d^a d^b| / (g_ab d^a d^b).
+//             kappa = |b_ab d^a d^b| / (g_ab d^a d^b). The crossing is found by Newton from
+//             the node closest to the axis, then from every element's own closest node; NaN
+//             (tip = x_c) only if no element holds it.
 // Integrals use nq x nq Gauss-Legendre points per element (default nq = NB + 4).
 #pragma once
 
@@ -43,7 +45,7 @@ enum class AxesMode {
 
 struct ShapeOptions {
   AxesMode axes = AxesMode::FlowAxes;
-  int nq = 0;  // Gauss points per direction for integrals; 0 -> NB + 4
+  int nq = 0;                  // Gauss points per direction for integrals; 0 -> NB + 4
   bool extrema = true;         // compute Lc, Sc, Wc
   bool edge_curvature = true;  // compute the +x tip curvature
 };
@@ -51,8 +53,8 @@ struct ShapeOptions {
 struct ShapeDiagnostics {
   double area = 0, volume = 0;
   Vector3d centroid = Vector3d::Zero();
-  Matrix3d inertia = Matrix3d::Zero();       // M_ij
-  Vector3d semi_axes = Vector3d::Zero();     // sorted descending
+  Matrix3d inertia = Matrix3d::Zero();          // M_ij
+  Vector3d semi_axes = Vector3d::Zero();        // sorted descending
   Matrix3d axis_directions = Matrix3d::Zero();  // columns match semi_axes
   double L = 0, S = 0, W = 0, D = 0;
   double inclination_deg = 0;  // AxesMode::Shear only
