@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <memory>
 #include <sstream>
 
 namespace capflow::capsule {
@@ -59,6 +61,20 @@ struct AdaptiveStepper::Arkode {
     if (ctx) SUNContext_Free(&ctx);
   }
 };
+
+namespace {
+
+// ARKODE's message for a failed step, or the return flag's name when it reported none (it
+// reports some failures, such as repeated error-test failures, only through the flag).
+std::string failure_text(int flag, const std::string& message) {
+  if (!message.empty()) return message;
+  if (flag == ARK_ERR_FAILURE)
+    return "ARK_ERR_FAILURE: the error test failed repeatedly or at the smallest step";
+  std::unique_ptr<char, void (*)(void*)> name(ERKStepGetReturnFlagName(flag), std::free);
+  return name ? std::string(name.get()) : "flag " + std::to_string(flag);
+}
+
+}  // namespace
 
 AdaptiveStepper::AdaptiveStepper(Rhs rhs, const AdaptiveOptions& options)
     : ark_(std::make_unique<Arkode>()), opt_(options) {
@@ -123,7 +139,7 @@ AdaptiveStepper::Step AdaptiveStepper::step(double t_stop, const Finish& finish,
     std::string why;
     bool changed = false;
     if (flag < 0) {
-      why = a.rhs_error.empty() ? "the integrator failed (" + a.message + ")"
+      why = a.rhs_error.empty() ? "the integrator failed (" + failure_text(flag, a.message) + ")"
                                 : "the velocity evaluation failed: " + a.rhs_error;
     } else {
       *y = view(a.y);

@@ -148,6 +148,25 @@ TEST(AdaptiveStepper, AFailedCheckRetriesTheStepSmallerOrFails) {
   EXPECT_LE(bad.time(), 0.05);
 }
 
+TEST(AdaptiveStepper, AnErrorTestFailureSaysWhy) {
+  // y' = y^2, y(0) = 1 blows up at t = 1: the error test fails down to h_min before it.
+  AdaptiveOptions o;
+  o.h_min = 1e-6;
+  AdaptiveStepper st(
+      [](double, const Eigen::VectorXd& y, Eigen::VectorXd* d) { *d = y.array().square(); }, o);
+  st.restart(0.0, Eigen::VectorXd::Ones(1), 0.0);
+  Eigen::VectorXd y;
+  try {
+    for (int k = 0; k < 100000; ++k) st.step(2.0, nullptr, nullptr, &y);
+    FAIL() << "no StepFailure";
+  } catch (const StepFailure& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(what.find("()"), std::string::npos) << what;
+    EXPECT_NE(what.find("error test"), std::string::npos) << what;
+  }
+  EXPECT_LT(st.time(), 1.0);
+}
+
 TEST(AdaptiveStepper, AFinishThatChangesTheStateRestartsFromIt) {
   // A projection after every step (like the volume correction): y_2 is kept at sin t exactly.
   AdaptiveStepper st(rhs, {});
