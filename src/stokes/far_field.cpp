@@ -29,13 +29,19 @@ void far_data(const geometry::Mesh& mesh, const Matrix3Xd& x, const Matrix3Xd* d
   // call at NE=6 NB=10)
   FarWorkspace& ws = far_workspace(thread_buffers<M>(), nq);
   MatrixXd &X = ws.X, &XI = ws.XI, &IX = ws.IX;
-  MatrixXd *xq = ws.xq, *xsq = ws.xsq, *xtq = ws.xtq, *dq = ws.dq;
+  MatrixXd *xsq = ws.xsq, *xtq = ws.xtq;
+  // The points in the order of F.d's columns (q = a + nq b: an nq x nq column-major matrix per
+  // row, so the products below write the positions and the density straight into F.d)
+  const int q0 = e * nqe;
+  double* __restrict out[10];
+  for (int r = 0; r < 10; ++r) out[r] = F.d.row(r).data() + q0;
+  using Grid = Eigen::Map<MatrixXd>;
   X.resize(nb, nb);
   for (int k = 0; k < 3; ++k) {
     for (int j = 0; j < nb; ++j)
       for (int i = 0; i < nb; ++i) X(i, j) = x(k, e * nb2 + j * nb + i);
     XI.noalias() = X * I.transpose();
-    xq[k].noalias() = I * XI;
+    Grid(out[k], nq, nq).noalias() = I * XI;
     xsq[k].noalias() = Id * XI;
     IX.noalias() = I * X;
     xtq[k].noalias() = IX * Id.transpose();
@@ -43,14 +49,13 @@ void far_data(const geometry::Mesh& mesh, const Matrix3Xd& x, const Matrix3Xd* d
       for (int j = 0; j < nb; ++j)
         for (int i = 0; i < nb; ++i) X(i, j) = (*dens)(k, e * nb2 + j * nb + i);
       IX.noalias() = I * X;
-      dq[k].noalias() = IX * I.transpose();
+      Grid(out[3 + k], nq, nq).noalias() = IX * I.transpose();
+    } else {
+      std::fill_n(out[3 + k], nqe, 0.0);
     }
   }
-  // The points in the order of F.d's columns (q = a + nq b, as the nq x nq matrices above):
-  // contiguous arrays, one vectorised loop per column b of the Gauss grid
-  const int q0 = e * nqe;
-  double* __restrict out[10];
-  for (int r = 0; r < 10; ++r) out[r] = F.d.row(r).data() + q0;
+  // one vectorised loop per column b of the Gauss grid; the single layer reads only w J
+  constexpr bool normals = M != Mode::Single;
   double ls = 0, lt = 0;
   for (int b = 0; b < nq; ++b) {
     const int o = b * nq;
@@ -69,18 +74,13 @@ void far_data(const geometry::Mesh& mesh, const Matrix3Xd& x, const Matrix3Xd* d
       const double cz = sx[a] * ty[a] - sy[a] * tx[a];
       ls += w * std::sqrt(sx[a] * sx[a] + sy[a] * sy[a] + sz[a] * sz[a]);
       lt += w * std::sqrt(tx[a] * tx[a] + ty[a] * ty[a] + tz[a] * tz[a]);
-      out[6][o + a] = w * cx;
-      out[7][o + a] = w * cy;
-      out[8][o + a] = w * cz;
+      if constexpr (normals) {
+        out[6][o + a] = w * cx;
+        out[7][o + a] = w * cy;
+        out[8][o + a] = w * cz;
+      }
       out[9][o + a] = w * std::sqrt(cx * cx + cy * cy + cz * cz);
     }
-  }
-  for (int k = 0; k < 3; ++k) {
-    std::copy_n(xq[k].data(), nqe, out[k]);
-    if (uses_density(M))
-      std::copy_n(dq[k].data(), nqe, out[3 + k]);
-    else
-      std::fill_n(out[3 + k], nqe, 0.0);
   }
   // mean length of the longer family of coordinate lines (= 2 * mean |x_xi| or |x_eta|)
   if (esize) *esize = 0.5 * std::max(ls, lt);

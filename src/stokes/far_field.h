@@ -27,7 +27,8 @@ struct FarData {
 
 // Far-field data of element e at the nq x nq Gauss-Legendre points (weights gw; I, Id: the
 // nq x nb interpolation and derivative matrices from the nodes) into columns
-// [e nq^2, (e + 1) nq^2) of F.d, rows 0-2 x, 3-5 density, 6-8 w (x_xi x x_eta), 9 w J.
+// [e nq^2, (e + 1) nq^2) of F.d, rows 0-2 x, 3-5 density, 6-8 w (x_xi x x_eta) (not written
+// for the single layer, which reads only w J), 9 w J.
 // esize (optional): the element's size, the mean length of its longer family of coordinate
 // lines.
 template <Mode M>

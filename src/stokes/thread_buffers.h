@@ -18,7 +18,7 @@ namespace capflow::stokes {
 // Gauss points and their derivatives.
 struct FarWorkspace {
   int nq = 0;  // the order they are sized for (0: not yet used)
-  Eigen::MatrixXd X, XI, IX, xq[3], xsq[3], xtq[3], dq[3];
+  Eigen::MatrixXd X, XI, IX, xsq[3], xtq[3];
 };
 
 struct ThreadBuffers {
