@@ -10,30 +10,41 @@
 
 namespace capflow::geometry {
 
-MatrixXd d_xi(const Mesh& mesh, const MatrixXd& f) {
-  const int nb = mesh.nb();
+namespace {
+
+// One row of an element's nodal values as an nb x nb matrix (i along xi, j along eta) inside
+// a rows x num_local field.
+using ElementRow = Eigen::Map<MatrixXd, 0, Eigen::Stride<Eigen::Dynamic, Eigen::Dynamic>>;
+using ConstElementRow =
+    Eigen::Map<const MatrixXd, 0, Eigen::Stride<Eigen::Dynamic, Eigen::Dynamic>>;
+
+// out = D f along xi (dir 0: D F per row and element) or along eta (dir 1: F D^T).
+MatrixXd derivative(const Mesh& mesh, const MatrixXd& f, int dir) {
+  const int nb = mesh.nb(), rows = static_cast<int>(f.rows());
   const MatrixXd& d = mesh.diff();
-  MatrixXd out = MatrixXd::Zero(f.rows(), f.cols());
+  MatrixXd out(rows, f.cols());
+  const Eigen::Stride<Eigen::Dynamic, Eigen::Dynamic> stride(rows * nb, rows);
   for (int e = 0; e < mesh.ne(); ++e)
-    for (int j = 0; j < nb; ++j)
-      for (int i = 0; i < nb; ++i) {
-        auto o = out.col(mesh.local(e, i, j));
-        for (int k = 0; k < nb; ++k) o += d(i, k) * f.col(mesh.local(e, k, j));
-      }
+    for (int r = 0; r < rows; ++r) {
+      const long at = static_cast<long>(mesh.local(e, 0, 0)) * rows + r;
+      const ConstElementRow in(f.data() + at, nb, nb, stride);
+      ElementRow o(out.data() + at, nb, nb, stride);
+      if (dir == 0)
+        o.noalias() = d.lazyProduct(in);
+      else
+        o.noalias() = in.lazyProduct(d.transpose());
+    }
   return out;
 }
 
+}  // namespace
+
+MatrixXd d_xi(const Mesh& mesh, const MatrixXd& f) {
+  return derivative(mesh, f, 0);
+}
+
 MatrixXd d_eta(const Mesh& mesh, const MatrixXd& f) {
-  const int nb = mesh.nb();
-  const MatrixXd& d = mesh.diff();
-  MatrixXd out = MatrixXd::Zero(f.rows(), f.cols());
-  for (int e = 0; e < mesh.ne(); ++e)
-    for (int j = 0; j < nb; ++j)
-      for (int i = 0; i < nb; ++i) {
-        auto o = out.col(mesh.local(e, i, j));
-        for (int k = 0; k < nb; ++k) o += d(j, k) * f.col(mesh.local(e, i, k));
-      }
-  return out;
+  return derivative(mesh, f, 1);
 }
 
 SurfaceGeometry compute_geometry(const Mesh& mesh, const Matrix3Xd& x) {
@@ -47,8 +58,8 @@ SurfaceGeometry compute_geometry(const Mesh& mesh, const Matrix3Xd& x) {
   g.x22 = d_eta(mesh, g.t2);
   const int n = mesh.num_local();
   g.n.resize(3, n);
-  for (VectorXd* v : {&g.jac, &g.g11, &g.g12, &g.g22, &g.b11, &g.b12, &g.b22,
-                      &g.mean_curvature, &g.gaussian_curvature})
+  for (VectorXd* v : {&g.jac, &g.g11, &g.g12, &g.g22, &g.b11, &g.b12, &g.b22, &g.mean_curvature,
+                      &g.gaussian_curvature})
     v->resize(n);
   for (int m = 0; m < n; ++m) {
     const Vector3d c = g.t1.col(m).cross(g.t2.col(m));
@@ -62,8 +73,8 @@ SurfaceGeometry compute_geometry(const Mesh& mesh, const Matrix3Xd& x) {
     g.b22[m] = g.n.col(m).dot(g.x22.col(m));
     const double det_g = g.g11[m] * g.g22[m] - g.g12[m] * g.g12[m];
     // g^ab b_ab = (g22 b11 - 2 g12 b12 + g11 b22) / det g
-    const double trace = (g.g22[m] * g.b11[m] - 2.0 * g.g12[m] * g.b12[m] + g.g11[m] * g.b22[m]) /
-                         det_g;
+    const double trace =
+        (g.g22[m] * g.b11[m] - 2.0 * g.g12[m] * g.b12[m] + g.g11[m] * g.b22[m]) / det_g;
     g.mean_curvature[m] = -0.5 * trace;
     g.gaussian_curvature[m] = (g.b11[m] * g.b22[m] - g.b12[m] * g.b12[m]) / det_g;
   }
@@ -136,7 +147,8 @@ MatrixXd to_gauss(const Mesh& mesh, const MatrixXd& f, const MatrixXd& interp) {
     tmp.setZero();
     for (int j = 0; j < nb; ++j)
       for (int a = 0; a < nq; ++a)
-        for (int i = 0; i < nb; ++i) tmp.col(j * nq + a) += interp(a, i) * f.col(mesh.local(e, i, j));
+        for (int i = 0; i < nb; ++i)
+          tmp.col(j * nq + a) += interp(a, i) * f.col(mesh.local(e, i, j));
     for (int b = 0; b < nq; ++b)
       for (int a = 0; a < nq; ++a) {
         auto o = out.col((e * nq + b) * nq + a);

@@ -407,3 +407,31 @@ TEST(Geometry, DiagonalDivisionIsTheCubeTurnedAboutZ) {
   EXPECT_NEAR((g.mean_curvature.array() - 1.0).abs().maxCoeff(),
               max_mean_curvature_error_sphere(6, 14, ElementMap::Equiangular), 1e-10);
 }
+
+TEST(Geometry, ParametricDerivativesAreExactOnPolynomials) {
+  // Row r of element e holds p(xi, eta) = c xi^a eta^b (a, b <= nb - 1, a different monomial
+  // per row and element): d_xi and d_eta return c a xi^(a-1) eta^b and c b xi^a eta^(b-1) at
+  // the nodes, for any number of rows.
+  for (int nb : {4, 7, 10}) {
+    const Mesh mesh(6, nb);
+    const Eigen::VectorXd& s = mesh.nodes();
+    for (int rows : {1, 3, 5}) {
+      MatrixXd f(rows, mesh.num_local()), fx(rows, mesh.num_local()), fy(rows, mesh.num_local());
+      for (int e = 0; e < mesh.ne(); ++e)
+        for (int r = 0; r < rows; ++r) {
+          const int a = (e + 2 * r) % nb, b = (3 * e + r + 1) % nb;
+          const double c = 1.0 + 0.25 * r - 0.1 * e;
+          for (int j = 0; j < nb; ++j)
+            for (int i = 0; i < nb; ++i) {
+              const int m = mesh.local(e, i, j);
+              const double xi = s[i], eta = s[j];
+              f(r, m) = c * std::pow(xi, a) * std::pow(eta, b);
+              fx(r, m) = a == 0 ? 0.0 : c * a * std::pow(xi, a - 1) * std::pow(eta, b);
+              fy(r, m) = b == 0 ? 0.0 : c * b * std::pow(xi, a) * std::pow(eta, b - 1);
+            }
+        }
+      EXPECT_LT((d_xi(mesh, f) - fx).cwiseAbs().maxCoeff(), 1e-11) << nb << " " << rows;
+      EXPECT_LT((d_eta(mesh, f) - fy).cwiseAbs().maxCoeff(), 1e-11) << nb << " " << rows;
+    }
+  }
+}
