@@ -57,16 +57,7 @@ render::Snapshot state_snapshot(const capsule::Capsule& cap, const Eigen::Matrix
   sn.time = time;
   sn.ca = ca;
   sn.law = law;
-  switch (cap.flow().type) {  // the flow's principal directions, for the text block
-    case capsule::FlowType::PlanarExtension:
-      sn.flow = "planar extension (stretching along x, compressing along y)";
-      break;
-    case capsule::FlowType::SimpleShear:
-      sn.flow = "simple shear (u = G y along x, vorticity along \u2212z)";
-      break;
-    default:
-      sn.flow = "custom velocity gradient";
-  }
+  sn.flow = cap.flow().description();  // the text block's flow line
   sn.diag = diag;
   return sn;
 }

@@ -22,6 +22,10 @@ struct Flow {
 
   Eigen::Vector3d velocity(const Eigen::Vector3d& x) const { return gradient * x; }
   std::string name() const;
+  // The flow in words, read off the gradient (the frames' text block): planar extension "...
+  // (stretching along x, compressing along y)", simple shear "... (u = G z along x, vorticity
+  // along +y)", otherwise "custom velocity gradient".
+  std::string description() const;
 };
 
 }  // namespace capflow::capsule

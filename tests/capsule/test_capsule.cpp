@@ -351,3 +351,22 @@ TEST(Capsule, MidpointStepHasThirdOrderLocalError) {
   EXPECT_NEAR(err[0] / err[1], 8.0, 1.2);
   EXPECT_NEAR(err[1] / err[2], 8.0, 1.2);
 }
+
+TEST(Flow, DescriptionsMatchTheVelocityGradient) {
+  // The frames' text block reads the flow off its gradient: the curl of u (central
+  // differences of velocity()) points along the axis the shear's description names.
+  const Flow shear = Flow::simple_shear();
+  Eigen::Vector3d curl;
+  const double h = 1e-3;
+  auto du = [&](int comp, int axis) {
+    const Eigen::Vector3d e = h * Eigen::Vector3d::Unit(axis);
+    return (shear.velocity(e)[comp] - shear.velocity(-e)[comp]) / (2 * h);
+  };
+  curl << du(2, 1) - du(1, 2), du(0, 2) - du(2, 0), du(1, 0) - du(0, 1);
+  EXPECT_NEAR((curl - Eigen::Vector3d::UnitY()).norm(), 0, 1e-12);
+  EXPECT_NEAR(shear.velocity(Eigen::Vector3d(0, 0, 2))[0], 2, 1e-15);  // u_x = G z
+  EXPECT_EQ(shear.description(), "simple shear (u = G z along x, vorticity along +y)");
+  EXPECT_EQ(Flow::planar_extension().description(),
+            "planar extension (stretching along x, compressing along y)");
+  EXPECT_EQ(Flow::custom(Eigen::Matrix3d::Zero()).description(), "custom velocity gradient");
+}
