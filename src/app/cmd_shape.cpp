@@ -6,6 +6,7 @@
 //
 // max_mean_curvature_error is the maximum over all nodes (edges and corners included) of
 // |H_spectral - H_exact| for the sphere and ellipsoid; null for shapes without a closed form.
+// edge_curvature is null where the +x axis through the centroid meets no surface.
 #include <iomanip>
 #include <iostream>
 #include <memory>

@@ -105,7 +105,8 @@ double curvature_along_y(const ElementEvaluator& ev, int e, double s, double t) 
 // The edge curvature at the crossing of the +x axis through c. Newton starts from the node
 // closest to the axis, in each element sharing it; when the crossing lies in another element
 // (the closest node inside one element, the crossing just across its edge), every element is
-// tried from its own closest node. NaN when no element holds a crossing.
+// tried from its own closest node and the outermost crossing (largest x) is taken. NaN when no
+// element holds a crossing (a surface the axis leaves through a gap, c outside the body).
 double edge_curvature_at_tip(const Mesh& mesh, const Matrix3Xd& x, const ElementEvaluator& ev,
                              const Vector3d& c, Vector3d* tip) {
   const int nb = mesh.nb(), nb2 = nb * nb;
@@ -126,12 +127,26 @@ double edge_curvature_at_tip(const Mesh& mesh, const Matrix3Xd& x, const Element
   if (best >= 0)
     for (int q : mesh.classes()[mesh.unique_of()[best]])
       if (pierce_from(mesh, ev, c, q / nb2, q % nb2, &s, &t)) return found(q / nb2);
+  int best_e = -1;
+  double best_s = 0, best_t = 0, best_x = -std::numeric_limits<double>::infinity();
   for (int e = 0; e < mesh.ne(); ++e) {
     const int q = element_node_nearest_axis(mesh, x, c, e);
-    if (q >= 0 && pierce_from(mesh, ev, c, e, q, &s, &t)) return found(e);
+    if (q < 0 || !pierce_from(mesh, ev, c, e, q, &s, &t)) continue;
+    const double xe = ev.eval(e, s, t).x.x();
+    if (xe > best_x) {
+      best_x = xe;
+      best_e = e;
+      best_s = s;
+      best_t = t;
+    }
   }
-  *tip = c;
-  return std::numeric_limits<double>::quiet_NaN();
+  if (best_e < 0) {
+    *tip = c;
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+  s = best_s;
+  t = best_t;
+  return found(best_e);
 }
 
 void assign_axes(ShapeDiagnostics* r, AxesMode mode) {

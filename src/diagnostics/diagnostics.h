@@ -14,8 +14,9 @@
 //   edge_curvature: curvature of the z = z_c profile at its tip on the +x axis through x_c,
 //             = the normal curvature along e_y there (Meusnier): with d^a = g^ab (t_b.e_y),
 //             kappa = |b_ab d^a d^b| / (g_ab d^a d^b). The crossing is found by Newton from
-//             the node closest to the axis, then from every element's own closest node; NaN
-//             (tip = x_c) only if no element holds it.
+//             the node closest to the axis, else the outermost one from every element's own
+//             closest node; NaN (tip = x_c) if the axis meets no element (x_c outside a bent
+//             body).
 // Integrals use nq x nq Gauss-Legendre points per element (default nq = NB + 4).
 #pragma once
 

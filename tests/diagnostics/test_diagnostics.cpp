@@ -105,6 +105,22 @@ TEST(Diagnostics, EdgeCurvatureOfRandomlyRotatedEllipsoids) {
   }
 }
 
+TEST(Diagnostics, EdgeCurvatureIsNaNWhereTheAxisMissesTheBody) {
+  // A thin tube bent into a C that opens towards +x: its centroid lies in the hollow and the
+  // +x axis through it leaves between the tube's ends, crossing no element.
+  const Mesh mesh(6, 10);
+  const Matrix3Xd x = map_points(mesh.reference(), [](const Vector3d& p) -> Vector3d {
+    const double r = 0.2 * p.x(), phi = 2.0 * p.y();  // across and along the tube
+    return Vector3d(1.0 - (1.0 - r) * std::cos(phi), (1.0 - r) * std::sin(phi), 0.2 * p.z());
+  });
+  ShapeOptions opt;
+  opt.extrema = false;
+  const ShapeDiagnostics d = measure_shape(mesh, x, opt);
+  EXPECT_GT(d.centroid.x(), 0.3);  // in the hollow: the tube's middle is at x = 0
+  EXPECT_TRUE(std::isnan(d.edge_curvature));
+  EXPECT_EQ(d.tip, d.centroid);
+}
+
 TEST(Diagnostics, CrossSectionsLieOnTheEllipse) {
   const double a = 1.8, b = 0.7, c = 1.0;
   const Mesh mesh(14, 12);
