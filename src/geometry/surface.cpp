@@ -20,6 +20,10 @@ using ConstElementRow =
 
 // out = D f along xi (dir 0: D F per row and element) or along eta (dir 1: F D^T).
 MatrixXd derivative(const Mesh& mesh, const MatrixXd& f, int dir) {
+  if (f.cols() != mesh.num_local())
+    throw std::invalid_argument("d_xi / d_eta: the field has " + std::to_string(f.cols()) +
+                                " columns, the mesh " + std::to_string(mesh.num_local()) +
+                                " nodes");
   const int nb = mesh.nb(), rows = static_cast<int>(f.rows());
   const MatrixXd& d = mesh.diff();
   MatrixXd out(rows, f.cols());

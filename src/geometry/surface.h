@@ -30,7 +30,8 @@ SurfaceGeometry compute_geometry(const Mesh& mesh, const Matrix3Xd& x);
 // grid resolves the sharpest place of the surface.
 double max_normal_turning(const Mesh& mesh, const Matrix3Xd& n, int* node = nullptr);
 
-// Element-wise parametric derivatives of a nodal field f (rows x num_local).
+// Element-wise parametric derivatives of a nodal field f (rows x num_local; throws
+// std::invalid_argument for another column count).
 MatrixXd d_xi(const Mesh& mesh, const MatrixXd& f);
 MatrixXd d_eta(const Mesh& mesh, const MatrixXd& f);
 
