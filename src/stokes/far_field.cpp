@@ -14,11 +14,6 @@ using Eigen::MatrixXd;
 using Eigen::Vector3d;
 using Eigen::VectorXd;
 
-// Far-field data of element e at the nq x nq Gauss-Legendre points (weights gw; I, Id: the
-// nq x nb interpolation and derivative matrices from the nodes) into columns
-// [e nq^2, (e + 1) nq^2) of F.d, rows 0-2 x, 3-5 density, 6-8 w (x_xi x x_eta), 9 w J.
-// esize (optional): the element's size, the mean length of its longer family of coordinate
-// lines.
 template <Mode M>
 void far_data(const geometry::Mesh& mesh, const Matrix3Xd& x, const Matrix3Xd* dens,
               const VectorXd& gw, const MatrixXd& I, const MatrixXd& Id, int e, FarData& F,

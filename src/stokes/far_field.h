@@ -18,8 +18,8 @@ struct FarBasis {
   Eigen::MatrixXd I, Id;  // nq x nb
 };
 
-// Far-field data at the Gauss points, row-major rows:
-// 0-2 x, 3-5 density (Single: times w J), 6-8 w (x_xi x x_eta), 9 w J.
+// Far-field data at the Gauss points, row-major rows: 0-2 x, 3-5 the density, 6-8
+// w (x_xi x x_eta) (not written for the single layer, which reads only w J), 9 w J.
 struct FarData {
   int nq = 0;
   RowMat d;
@@ -27,8 +27,7 @@ struct FarData {
 
 // Far-field data of element e at the nq x nq Gauss-Legendre points (weights gw; I, Id: the
 // nq x nb interpolation and derivative matrices from the nodes) into columns
-// [e nq^2, (e + 1) nq^2) of F.d, rows 0-2 x, 3-5 density, 6-8 w (x_xi x x_eta) (not written
-// for the single layer, which reads only w J), 9 w J.
+// [e nq^2, (e + 1) nq^2) of F.d (rows as FarData says).
 // esize (optional): the element's size, the mean length of its longer family of coordinate
 // lines.
 template <Mode M>

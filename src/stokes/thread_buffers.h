@@ -14,8 +14,9 @@
 
 namespace capflow::stokes {
 
-// far_data's temporaries for one Gauss order nq: one element's coordinates (and density) at the
-// Gauss points and their derivatives.
+// far_data's temporaries for one Gauss order nq: one element's nodal copy X of a coordinate or
+// density row, the half-interpolated products XI = X I^T and IX = I X, and the coordinates'
+// derivatives at the Gauss points (the positions and the density go straight into F.d).
 struct FarWorkspace {
   int nq = 0;  // the order they are sized for (0: not yet used)
   Eigen::MatrixXd X, XI, IX, xsq[3], xtq[3];
