@@ -35,6 +35,8 @@ SavedState from_checkpoint(const RunCheckpoint& ck) {
   diagnostics::ShapeOptions so;
   so.axes = o.flow.type == capsule::FlowType::SimpleShear ? diagnostics::AxesMode::Shear
                                                           : diagnostics::AxesMode::FlowAxes;
+  so.extrema = false;  // the overlay shows D, L, S and W only
+  so.edge_curvature = false;
   const diagnostics::ShapeDiagnostics d = diagnostics::measure_shape(*ck.mesh, ck.x, so);
   SavedState s;
   s.snapshot =
