@@ -81,18 +81,18 @@ int element_node_nearest_axis(const Mesh& mesh, const Matrix3Xd& x, const Vector
   return best;
 }
 
-// The crossing of the +x axis through c with element e, by Newton from its node q (i + nb j):
-// false if Newton leaves the element or converges behind c.
-bool pierce_from(const Mesh& mesh, const ElementEvaluator& ev, const Vector3d& c, int e, int q,
-                 double* s, double* t) {
-  const int nb = mesh.nb();
-  return pierce_x_axis(ev, e, mesh.nodes()[q % nb], mesh.nodes()[q / nb], c, s, t) &&
+// The crossing of the +x axis through c with element e, by Newton from the element's node
+// closest to the axis: false if no node lies in front of c, Newton leaves the element or it
+// converges behind c.
+bool element_crossing(const Mesh& mesh, const Matrix3Xd& x, const ElementEvaluator& ev,
+                      const Vector3d& c, int e, double* s, double* t) {
+  const int q = element_node_nearest_axis(mesh, x, c, e), nb = mesh.nb();
+  return q >= 0 && pierce_x_axis(ev, e, mesh.nodes()[q % nb], mesh.nodes()[q / nb], c, s, t) &&
          ev.eval(e, *s, *t).x.x() > c.x();
 }
 
-// The normal curvature along e_y (the tangent closest to it) at (s, t) of element e.
-double curvature_along_y(const ElementEvaluator& ev, int e, double s, double t) {
-  const SurfacePoint p = ev.eval(e, s, t);
+// The normal curvature along e_y (the tangent closest to it) at the surface point p.
+double curvature_along_y(const SurfacePoint& p) {
   const Vector3d n = p.normal();
   Eigen::Matrix2d g;
   g << p.xs.dot(p.xs), p.xs.dot(p.xt), p.xs.dot(p.xt), p.xt.dot(p.xt);
@@ -102,51 +102,28 @@ double curvature_along_y(const ElementEvaluator& ev, int e, double s, double t) 
   return std::abs(d.dot(b * d)) / d.dot(g * d);
 }
 
-// The edge curvature at the crossing of the +x axis through c. Newton starts from the node
-// closest to the axis, in each element sharing it; when the crossing lies in another element
-// (the closest node inside one element, the crossing just across its edge), every element is
-// tried from its own closest node and the outermost crossing (largest x) is taken. NaN when no
-// element holds a crossing (a surface the axis leaves through a gap, c outside the body).
+// The edge curvature at the crossing of the +x axis through c: every element is searched from
+// its own node closest to the axis (a crossing just across an element edge from the closest
+// node of all is found in the neighbour), and the outermost crossing (largest x) is taken. NaN
+// when no element holds a crossing (a surface the axis leaves through a gap, c outside the
+// body).
 double edge_curvature_at_tip(const Mesh& mesh, const Matrix3Xd& x, const ElementEvaluator& ev,
                              const Vector3d& c, Vector3d* tip) {
-  const int nb = mesh.nb(), nb2 = nb * nb;
-  int best = -1;
-  double best_d = std::numeric_limits<double>::infinity();
-  for (int m = 0; m < mesh.num_local(); ++m) {
-    const double d = axis_distance(x.col(m), c);
-    if (d < best_d) {
-      best_d = d;
-      best = m;
-    }
-  }
-  double s, t;
-  auto found = [&](int e) {
-    *tip = ev.eval(e, s, t).x;
-    return curvature_along_y(ev, e, s, t);
-  };
-  if (best >= 0)
-    for (int q : mesh.classes()[mesh.unique_of()[best]])
-      if (pierce_from(mesh, ev, c, q / nb2, q % nb2, &s, &t)) return found(q / nb2);
-  int best_e = -1;
-  double best_s = 0, best_t = 0, best_x = -std::numeric_limits<double>::infinity();
+  bool found = false;
+  SurfacePoint outer;
   for (int e = 0; e < mesh.ne(); ++e) {
-    const int q = element_node_nearest_axis(mesh, x, c, e);
-    if (q < 0 || !pierce_from(mesh, ev, c, e, q, &s, &t)) continue;
-    const double xe = ev.eval(e, s, t).x.x();
-    if (xe > best_x) {
-      best_x = xe;
-      best_e = e;
-      best_s = s;
-      best_t = t;
-    }
+    double s, t;
+    if (!element_crossing(mesh, x, ev, c, e, &s, &t)) continue;
+    const SurfacePoint p = ev.eval(e, s, t);
+    if (!found || p.x.x() > outer.x.x()) outer = p;
+    found = true;
   }
-  if (best_e < 0) {
+  if (!found) {
     *tip = c;
     return std::numeric_limits<double>::quiet_NaN();
   }
-  s = best_s;
-  t = best_t;
-  return found(best_e);
+  *tip = outer.x;
+  return curvature_along_y(outer);
 }
 
 void assign_axes(ShapeDiagnostics* r, AxesMode mode) {

@@ -13,10 +13,9 @@
 //             best node (so extrema on element edges and corners are found too).
 //   edge_curvature: curvature of the z = z_c profile at its tip on the +x axis through x_c,
 //             = the normal curvature along e_y there (Meusnier): with d^a = g^ab (t_b.e_y),
-//             kappa = |b_ab d^a d^b| / (g_ab d^a d^b). The crossing is found by Newton from
-//             the node closest to the axis, else the outermost one from every element's own
-//             closest node; NaN (tip = x_c) if the axis meets no element (x_c outside a bent
-//             body).
+//             kappa = |b_ab d^a d^b| / (g_ab d^a d^b). The crossing is found by Newton in
+//             every element from its node closest to the axis, the outermost one taken; NaN
+//             (tip = x_c) if the axis meets no element (x_c outside a bent body).
 // Integrals use nq x nq Gauss-Legendre points per element (default nq = NB + 4).
 #pragma once
 
