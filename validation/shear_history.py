@@ -6,7 +6,8 @@ rest, capflow at three resolutions against the published histories (docs/validat
 Usage: validation/shear_history.py [--exe build/src/app/capflow] [--reuse]
 
 Runs capflow (adaptive steps, time.tolerance 1e-6, to the last listed time) at NE=6 NB=10,
-NE=10 NB=12 and NE=6 NB=14 into runs/validation/shear_history_*, reads D from each
+NE=10 NB=12 and NE=6 NB=14, and at NE=6 NB=10 with numerics.quadrature_scale 2 and
+time.tolerance 1e-8, into runs/validation/shear_history_*, reads D from each
 timeseries.csv and prints a markdown table of D at the listed times with the published values.
 The published values are read off the authors' figures (Ca based on Gs = E_s / 3; +-0.005):
 Pozrikidis 1995 (boundary elements, to t = 2), Ramanujan & Pozrikidis 1998 (boundary
@@ -23,7 +24,10 @@ import sys
 import tempfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-MESHES = [(6, 10), (10, 12), (6, 14)]
+# (label, NE, NB, quadrature scale, time tolerance): three resolutions, and NE=6 NB=10 with every
+# quadrature order doubled and a 100x tighter step tolerance (the numerics' share of D)
+RUNS = [("NE=6 NB=10", 6, 10, 1.0, 1e-6), ("NE=10 NB=12", 10, 12, 1.0, 1e-6),
+        ("NE=6 NB=14", 6, 14, 1.0, 1e-6), ("NE=6 NB=10, quadrature x2, tolerance 1e-8", 6, 10, 2.0, 1e-8)]
 CODES = ["Pozrikidis 1995", "Ramanujan & Pozrikidis 1998", "Eggleton & Popel 1998",
          "Doddi & Bagchi 2008", "Huet (Basilisk)"]
 # Ca: {t: D of each code in CODES at t, read off the published curves (None: not published
@@ -41,9 +45,11 @@ PUBLISHED = {
 }
 
 
-def run(exe, ca, ne, nb, reuse):
+def run(exe, ca, spec, reuse):
+    _, ne, nb, scale, tol = spec
     t_end = max(PUBLISHED[ca])
-    out = os.path.join(ROOT, "runs", "validation", f"shear_history_ca{ca:g}_ne{ne}_nb{nb}")
+    suffix = "" if (scale, tol) == (1.0, 1e-6) else f"_q{scale:g}_tol{tol:g}"
+    out = os.path.join(ROOT, "runs", "validation", f"shear_history_ca{ca:g}_ne{ne}_nb{nb}{suffix}")
     ts = os.path.join(out, "timeseries.csv")
     if not (reuse and os.path.exists(ts)):
         control = {
@@ -51,8 +57,9 @@ def run(exe, ca, ne, nb, reuse):
             "capsule": {"law": "neo-hookean"},
             "mesh": {"elements": ne, "nb": nb},
             "flow": {"type": "simple-shear"},
-            "time": {"dt": "auto", "t_end": t_end, "tolerance": 1e-6},
+            "time": {"dt": "auto", "t_end": t_end, "tolerance": tol},
             "ca": ca,
+            "numerics": {"quadrature_scale": scale},
             "output": {"dir": out, "csv_every": 0.05},
         }
         with tempfile.NamedTemporaryFile("w", suffix=".json", delete=False) as f:
@@ -83,13 +90,13 @@ def main():
     p.add_argument("--exe", default=os.path.join(ROOT, "build", "src", "app", "capflow"))
     p.add_argument("--reuse", action="store_true")
     a = p.parse_args()
-    print("| Ca | t | " + " | ".join(f"capflow NE={ne} NB={nb}" for ne, nb in MESHES) + " | " +
+    print("| Ca | t | " + " | ".join(f"capflow {r[0]}" for r in RUNS) + " | " +
           " | ".join(CODES) + " |")
-    print("|---" * (2 + len(MESHES) + len(CODES)) + "|")
+    print("|---" * (2 + len(RUNS) + len(CODES)) + "|")
     for ca, rows in PUBLISHED.items():
-        series = {m: run(a.exe, ca, *m, a.reuse) for m in MESHES}
+        series = [run(a.exe, ca, r, a.reuse) for r in RUNS]
         for t, theirs in rows.items():
-            ours = [f"{at(series[m], t):.4f}" for m in MESHES]
+            ours = [f"{at(sr, t):.4f}" for sr in series]
             cells = ["" if v is None else f"{v:.3f}" for v in theirs]
             print(f"| {ca:g} | {t:g} | " + " | ".join(ours) + " | " + " | ".join(cells) + " |")
 
