@@ -49,6 +49,12 @@ constexpr double kMaxApproachTime = 400;  // simulated time the approach may tak
 constexpr int kSolveAttempts = 3;
 constexpr int kMinApproachSteps = 10;  // for the controller to reach the stability limit
 constexpr int kCoarseNb = 8;           // the first level is solved on NB=8 first
+// The climb (SteadyRun::climb): the start's Ca is lowered by kClimbFactor at a time, at most
+// kClimbTries times, until the NB=8 state resolves its tips; the branch from there has
+// kClimbStates states at least.
+constexpr double kClimbFactor = 0.75;
+constexpr int kClimbTries = 4;
+constexpr int kClimbStates = 4;
 
 const char* const kTimeseriesHeader =
     "t,ca,D,L,S,W,Lc,Sc,Wc,area,volume,edge_curvature,tau_max,tau_min,inclination_deg,"
@@ -86,6 +92,12 @@ std::vector<double> levels_of(const control::CaSchedule& s) {
 std::string fixed(double v, int digits) {
   std::ostringstream s;
   s << std::fixed << std::setprecision(digits) << v;
+  return s.str();
+}
+
+std::string scientific(double v) {
+  std::ostringstream s;
+  s << std::scientific << std::setprecision(2) << v;
   return s.str();
 }
 
@@ -476,17 +488,36 @@ class SteadyRun {
       }
       if (stopped()) return false;
     }
-    failure_ =
-        "no steady state found: " + sol->message + ", residual " + std::to_string(sol->residual);
+    failure_ = "no steady state found: " + sol->message + ", residual " + scientific(sol->residual);
     return true;
+  }
+
+  Grid coarse_grid() const {
+    control::ControlOptions co = opt_;
+    co.mesh.nb = kCoarseNb;
+    return make_grid(co);
+  }
+
+  // The largest angle between the unit normals of neighbouring nodes of grid g's state: above
+  // the health check's resolution limit the grid does not resolve the tips.
+  static double normal_turning(const Grid& g) {
+    return geometry::max_normal_turning(*g.mesh, geometry::compute_geometry(*g.mesh, g.x).n);
+  }
+
+  // The health check's node-to-node oscillation indicator of grid g's state.
+  static double oscillation(const Grid& g) {
+    return capsule::HealthMonitor(*g.mesh, g.x).oscillation_indicator(g.x);
+  }
+
+  static bool resolves_tips(double turning) {
+    return turning <= capsule::HealthOptions{}.resolution_warn_angle;
   }
 
   // The first level from rest on a fine grid: solved on NB=8 first (cheap evaluations for the
   // long approach from the sphere) and resampled onto the fine grid as its starting state.
-  void coarse_start(double ca, int* newton, long* krylov, long* evaluations) {
-    control::ControlOptions co = opt_;
-    co.mesh.nb = kCoarseNb;
-    Grid coarse = make_grid(co);
+  // Returns whether that NB=8 state resolves its tips (false when there is none).
+  bool coarse_start(double ca, int* newton, long* krylov, long* evaluations) {
+    Grid coarse = coarse_grid();
     capsule::SteadySolution sol;
     const bool ran = solve_on(coarse, ca, &sol, newton, krylov);
     *evaluations += coarse.cap->velocity_evaluations();
@@ -495,11 +526,90 @@ class SteadyRun {
         say("the NB=" + std::to_string(kCoarseNb) + " start found no steady state (" + failure_ +
             "): from rest on NB=" + std::to_string(opt_.mesh.nb));
       failure_.clear();
-      return;
+      return false;
     }
     fine_.x = resampled(*coarse.mesh, coarse.x, fine_);
     say("Ca = " + fixed(ca, 6) + ": the NB=" + std::to_string(kCoarseNb) +
         " steady state resampled onto NB=" + std::to_string(opt_.mesh.nb));
+    return resolves_tips(normal_turning(coarse));
+  }
+
+  // The smallest principal tension of the fine grid's state.
+  double tau_min() const { return fine_.cap->fields(fine_.x).tension2.minCoeff(); }
+
+  // The first level again, along the branch from a start that resolves its tips: Ca lowered
+  // until the NB=8 state resolves them, that state solved on the fine grid, then the branch
+  // followed up to ca (pseudo-arclength, landing on ca; Newton at fixed Ca fails near the top
+  // of a steep branch). For a root with compressive tension found from an under-resolved NB=8
+  // start: another root of the fine equations near the NB=8 state, not the shape a time march
+  // settles in (the neo-Hookean Ca = 0.4 state at NE=14 NB=14). False when stopped, when no
+  // start resolves its tips or when the branch does not reach ca (failure_ says why); fine_.x
+  // and *sol are then unchanged.
+  bool climb(double ca, capsule::SteadySolution* sol, int* newton, long* krylov,
+             long* evaluations) {
+    const Eigen::Matrix3Xd kept = fine_.x;
+    const auto give_up = [&](const std::string& why) {
+      failure_ = why;
+      fine_.x = kept;
+      return false;
+    };
+    Grid coarse = coarse_grid();
+    double low = ca;
+    bool found = false;
+    for (int k = 0; k < kClimbTries && !found && !stopped(); ++k) {
+      low *= kClimbFactor;
+      capsule::SteadySolution s;
+      if (!solve_on(coarse, low, &s, newton, krylov) || !s.converged) break;
+      const double turning = normal_turning(coarse);
+      found = resolves_tips(turning);
+      say("climb: the NB=" + std::to_string(kCoarseNb) + " state at Ca = " + fixed(low, 6) +
+          (found ? " resolves its tips" : " does not resolve its tips") + " (the normal turns by " +
+          fixed(turning, 2) + " rad between neighbouring nodes)");
+    }
+    *evaluations += coarse.cap->velocity_evaluations();
+    if (stopped()) return give_up("stopped");
+    if (!found)
+      return give_up("no NB=" + std::to_string(kCoarseNb) + " state down to Ca = " + fixed(low, 6) +
+                     " resolves its tips");
+    log_->event(Record().set("event", "climb").set("ca", ca).set("from_ca", low), t_);
+    fine_.x = resampled(*coarse.mesh, coarse.x, fine_);
+    capsule::SteadySolution s;
+    if (!solve_on(fine_, low, &s, newton, krylov) || !s.converged)
+      return give_up("Ca = " + fixed(low, 6) + ": " + failure_);
+    capsule::ContinuationOptions co;
+    co.from = low;
+    co.to = ca;
+    co.step = (ca - low) / kClimbStates;
+    co.after_fold = 0;
+    capsule::ArclengthContinuation branch(co, capsule::BranchPoint{flat(fine_.x), low});
+    Corrections k;
+    for (;;) {
+      const capsule::ArclengthContinuation::Status status =
+          branch.advance([&](const capsule::BranchPoint& p, const capsule::BranchPoint& n,
+                             int* it) { return correct(p, n, &k, it); });
+      *newton += k.newton;
+      *krylov += k.krylov;
+      k.newton = 0;
+      k.krylov = 0;
+      if (stopped()) return give_up("stopped");
+      if (status == capsule::ArclengthContinuation::Status::Stuck)
+        return give_up("the branch from Ca = " + fixed(low, 6) + " ends: " + branch.why());
+      if (status == capsule::ArclengthContinuation::Status::Done) break;
+      fine_.x =
+          Eigen::Map<const Eigen::Matrix3Xd>(branch.last().y.data(), 3, branch.last().y.size() / 3);
+    }
+    if (std::abs(branch.last().ca - ca) > 1e-9 * ca)
+      return give_up("the branch from Ca = " + fixed(low, 6) + " turns back at Ca = " +
+                     fixed(branch.last().ca, 6) + " before reaching " + fixed(ca, 6));
+    if (const double a = oscillation(fine_); a > capsule::HealthOptions{}.oscillation_fail)
+      return give_up("the branch reaches Ca = " + fixed(ca, 6) +
+                     " with node-to-node oscillation (highest-mode amplitude " + scientific(a) +
+                     " of the element size, above the time steps' limit " +
+                     scientific(capsule::HealthOptions{}.oscillation_fail) +
+                     "): NB=" + std::to_string(opt_.mesh.nb) +
+                     " does not resolve the state there (raise mesh.nb)");
+    *sol = k.last;
+    return true;
   }
 
   bool solve_level(double ca) {
@@ -515,12 +625,38 @@ class SteadyRun {
     long evaluations = 0;
     int newton = 0;
     long krylov = 0;
+    bool resolved_start = true;
     if (states_ == 0 && opt_.start.from.empty() && opt_.mesh.nb > kCoarseNb)
-      coarse_start(ca, &newton, &krylov, &evaluations);
+      resolved_start = coarse_start(ca, &newton, &krylov, &evaluations);
     if (stopped()) return false;
     capsule::SteadySolution sol;
-    const bool ran = solve_on(fine_, ca, &sol, &newton, &krylov);
+    bool ran = solve_on(fine_, ca, &sol, &newton, &krylov);
     if (stopped()) return false;
+    if (!resolved_start) {
+      // Where the NB=8 start does not resolve the tips (or found no state): no root, or a root
+      // with compressive tension, is solved again along the branch from a lower Ca (climb).
+      const bool found = ran && sol.converged;
+      std::ostringstream m;
+      if (!found)
+        m << "Ca = " << ca << ": no steady state on NB=" << opt_.mesh.nb << " (" << failure_ << ")";
+      else if (const double tau = tau_min(); tau < 0)
+        m << "Ca = " << ca << ": the root on NB=" << opt_.mesh.nb
+          << " has compressive tension (tau_min = " << tau << ")";
+      if (!m.str().empty()) {
+        say(m.str() + ", and the NB=" + std::to_string(kCoarseNb) +
+            " start does not resolve the tips: solved again along the branch from a lower Ca");
+        const std::string first_failure = failure_;
+        if (climb(ca, &sol, &newton, &krylov, &evaluations)) {
+          ran = true;
+          approach_failed_ = false;
+          failure_.clear();
+        } else {
+          if (stopped()) return false;
+          say("climb: " + failure_ + (found ? "; the first root stands" : ""));
+          failure_ = first_failure;
+        }
+      }
+    }
     evaluations += fine_.cap->velocity_evaluations() - evals0;
     evaluations_ += evaluations;
     if (!ran || !sol.converged) return fail(ca, failure_);
@@ -669,6 +805,25 @@ class SteadyRun {
                 t_);
   }
 
+  // A root with node-to-node oscillation above the time steps' failure limit: a march from it
+  // stops at its first step, and the grid does not resolve the shape.
+  void warn_if_oscillating(double ca, double amplitude) {
+    if (amplitude <= capsule::HealthOptions{}.oscillation_fail) return;
+    std::ostringstream m;
+    m << "warning: node-to-node oscillation at the steady state at Ca = " << ca
+      << " (highest-mode amplitude " << amplitude << " of the element size, above the time steps' "
+      << "limit " << capsule::HealthOptions{}.oscillation_fail << "): NB=" << opt_.mesh.nb
+      << " does not resolve this root (raise mesh.nb)";
+    say(m.str());
+    log_->event(Record()
+                    .set("event", "warning")
+                    .set("cause", "oscillation")
+                    .set("ca", ca)
+                    .set("amplitude", amplitude)
+                    .set("message", m.str()),
+                t_);
+  }
+
   void write_state(double ca, const capsule::SteadySolution& sol, int newton, long krylov,
                    long evaluations, double wall_s) {
     diagnostics::ShapeOptions so;
@@ -689,6 +844,7 @@ class SteadyRun {
       << " velocity evaluations, " << fixed(wall_s, 1) << " s)";
     say(m.str());
     warn_if_compressed(ca, f.tension2.minCoeff());
+    warn_if_oscillating(ca, oscillation(fine_));
     const std::string ckpt = write_checkpoint(ca);
     submit_frame(ca, d, f);
     log_->event(Record()
