@@ -548,9 +548,12 @@ class SteadyRun {
   bool climb(double ca, capsule::SteadySolution* sol, int* newton, long* krylov,
              long* evaluations) {
     const Eigen::Matrix3Xd kept = fine_.x;
+    const double kept_h = fine_.h_last, kept_h_ca = h_ca_;
     const auto give_up = [&](const std::string& why) {
       failure_ = why;
       fine_.x = kept;
+      fine_.h_last = kept_h;
+      h_ca_ = kept_h_ca;
       return false;
     };
     Grid coarse = coarse_grid();
@@ -559,7 +562,12 @@ class SteadyRun {
     for (int k = 0; k < kClimbTries && !found && !stopped(); ++k) {
       low *= kClimbFactor;
       capsule::SteadySolution s;
-      if (!solve_on(coarse, low, &s, newton, krylov) || !s.converged) break;
+      if (!solve_on(coarse, low, &s, newton, krylov) || !s.converged) {
+        if (!stopped())
+          say("climb: no NB=" + std::to_string(kCoarseNb) + " state at Ca = " + fixed(low, 6) +
+              " (" + failure_ + ")");
+        continue;  // the march's or Newton's failure there: lower Ca again
+      }
       const double turning = normal_turning(coarse);
       found = resolves_tips(turning);
       say("climb: the NB=" + std::to_string(kCoarseNb) + " state at Ca = " + fixed(low, 6) +
@@ -600,7 +608,8 @@ class SteadyRun {
     }
     if (std::abs(branch.last().ca - ca) > 1e-9 * ca)
       return give_up("the branch from Ca = " + fixed(low, 6) + " turns back at Ca = " +
-                     fixed(branch.last().ca, 6) + " before reaching " + fixed(ca, 6));
+                     fixed(branch.fold() ? branch.fold()->ca : branch.last().ca, 6) +
+                     " before reaching " + fixed(ca, 6));
     if (const double a = oscillation(fine_); a > capsule::HealthOptions{}.oscillation_fail)
       return give_up("the branch reaches Ca = " + fixed(ca, 6) +
                      " with node-to-node oscillation (highest-mode amplitude " + scientific(a) +
@@ -625,6 +634,7 @@ class SteadyRun {
     long evaluations = 0;
     int newton = 0;
     long krylov = 0;
+    approach_failed_ = false;  // this level's
     bool resolved_start = true;
     if (states_ == 0 && opt_.start.from.empty() && opt_.mesh.nb > kCoarseNb)
       resolved_start = coarse_start(ca, &newton, &krylov, &evaluations);
@@ -646,6 +656,7 @@ class SteadyRun {
         say(m.str() + ", and the NB=" + std::to_string(kCoarseNb) +
             " start does not resolve the tips: solved again along the branch from a lower Ca");
         const std::string first_failure = failure_;
+        const bool first_approach_failed = approach_failed_;
         if (climb(ca, &sol, &newton, &krylov, &evaluations)) {
           ran = true;
           approach_failed_ = false;
@@ -653,7 +664,8 @@ class SteadyRun {
         } else {
           if (stopped()) return false;
           say("climb: " + failure_ + (found ? "; the first root stands" : ""));
-          failure_ = first_failure;
+          failure_ = found ? first_failure : first_failure + "; climb: " + failure_;
+          approach_failed_ = first_approach_failed;
         }
       }
     }

@@ -42,5 +42,7 @@ TEST(SteadyValidation, AClimbToAStateTheGridDoesNotResolveFailsAndSaysWhy) {
             std::string::npos)
       << log;
   EXPECT_NE(log.find("raise mesh.nb"), std::string::npos);
+  EXPECT_NE(s.failure.find("; climb: the branch reaches Ca = 0.380000"), std::string::npos)
+      << s.failure;
   fs::remove_all(d);
 }
