@@ -603,8 +603,7 @@ class SteadyRun {
       if (status == capsule::ArclengthContinuation::Status::Stuck)
         return give_up("the branch from Ca = " + fixed(low, 6) + " ends: " + branch.why());
       if (status == capsule::ArclengthContinuation::Status::Done) break;
-      fine_.x =
-          Eigen::Map<const Eigen::Matrix3Xd>(branch.last().y.data(), 3, branch.last().y.size() / 3);
+      fine_.x = positions(branch.last());
     }
     if (std::abs(branch.last().ca - ca) > 1e-9 * ca)
       return give_up("the branch from Ca = " + fixed(low, 6) + " turns back at Ca = " +
@@ -713,8 +712,7 @@ class SteadyRun {
         log_->event(Record().set("event", "branch_end").set("message", branch.why()), t_);
         return;
       }
-      fine_.x =
-          Eigen::Map<const Eigen::Matrix3Xd>(branch.last().y.data(), 3, branch.last().y.size() / 3);
+      fine_.x = positions(branch.last());
       if (branch.fold_found_now()) report_fold(*branch.fold(), c.after_fold, sum);
       write_state(
           branch.last().ca, k.last, k.newton, k.krylov, evaluations,
@@ -790,6 +788,10 @@ class SteadyRun {
     return Eigen::Map<const Eigen::VectorXd>(x.data(), x.size());
   }
 
+  static Eigen::Matrix3Xd positions(const capsule::BranchPoint& p) {
+    return Eigen::Map<const Eigen::Matrix3Xd>(p.y.data(), 3, p.y.size() / 3);
+  }
+
   bool fail(double ca, const std::string& why) {
     failure_ = "Ca = " + std::to_string(ca) + ": " + why;
     say("failure: " + failure_);
@@ -797,9 +799,23 @@ class SteadyRun {
     return false;
   }
 
+  // A warning about a steady state: said, and written to events.jsonl with its cause and the
+  // quantity that raised it.
+  void warn(const std::string& cause, double ca, const char* key, double value,
+            const std::string& message) {
+    say(message);
+    log_->event(Record()
+                    .set("event", "warning")
+                    .set("cause", cause)
+                    .set("ca", ca)
+                    .set(key, value)
+                    .set("message", message),
+                t_);
+  }
+
   // A root with compressive tension somewhere: the membrane (no bending stiffness) wrinkles
   // there at the scale of the mesh, so the shape is not resolved (below Ca ~ 0.15 in planar
-  // extension; the neo-Hookean Ca = 0.4 root that a start from rest finds at NE=14 NB=14).
+  // extension).
   void warn_if_compressed(double ca, double tau_min) {
     if (tau_min >= 0) return;
     std::ostringstream m;
@@ -807,14 +823,7 @@ class SteadyRun {
       << " (tau_min = " << tau_min
       << "): the membrane wrinkles there (no bending stiffness), so this root is not a resolved "
          "steady shape";
-    say(m.str());
-    log_->event(Record()
-                    .set("event", "warning")
-                    .set("cause", "compression")
-                    .set("ca", ca)
-                    .set("tau_min", tau_min)
-                    .set("message", m.str()),
-                t_);
+    warn("compression", ca, "tau_min", tau_min, m.str());
   }
 
   // A root with node-to-node oscillation above the time steps' failure limit: a march from it
@@ -826,14 +835,7 @@ class SteadyRun {
       << " (highest-mode amplitude " << amplitude << " of the element size, above the time steps' "
       << "limit " << capsule::HealthOptions{}.oscillation_fail << "): NB=" << opt_.mesh.nb
       << " does not resolve this root (raise mesh.nb)";
-    say(m.str());
-    log_->event(Record()
-                    .set("event", "warning")
-                    .set("cause", "oscillation")
-                    .set("ca", ca)
-                    .set("amplitude", amplitude)
-                    .set("message", m.str()),
-                t_);
+    warn("oscillation", ca, "amplitude", amplitude, m.str());
   }
 
   void write_state(double ca, const capsule::SteadySolution& sol, int newton, long krylov,
