@@ -5,11 +5,11 @@
 // Error = max over nodes |SL - SL_ref| / max |SL_ref|; time = median of 5 calls on 1 thread.
 // Variants: "default", "before" (the defaults before 2026-12-02: plain Gauss on the own rays,
 // n_radial nb + 4, near edge nb + 2, one near outer panel of nb points, mid order 2 nb + 4), or
-// a comma list of key=value over the defaults, keys: n_edge, n_radial_inner, n_radial,
-// own_split, own_grading, n_edge_near, n_radial_near, n_radial_near_out, near_out_panels,
-// near_split, near_factor, mid_factor, nq_far, nq_mid, single_near_factor, single_nq_mid,
-// single_mid_split. Usage: quadrature_study [--check-ref K] RUN_DIR|CKPT VARIANT... Used for
-// docs/performance.md ("Own and near radial rules").
+// a comma list of key=value over the defaults, keys: n_edge, own_edge_base, own_edge_slope,
+// n_radial_inner, n_radial, own_split, own_grading, n_edge_near, n_radial_near, n_radial_near_out,
+// near_out_panels, near_split, near_factor, mid_factor, nq_far, nq_mid, single_near_factor,
+// single_nq_mid, single_mid_split. Usage: quadrature_study [--check-ref K] RUN_DIR|CKPT VARIANT...
+// Used for docs/performance.md ("Own and near radial rules").
 #include <omp.h>
 
 #include <algorithm>
@@ -35,6 +35,7 @@ stokes::QuadratureOptions variant(const std::string& spec, const stokes::Quadrat
   stokes::QuadratureOptions o = def;
   if (spec == "default") return o;
   if (spec == "before") {
+    o.own_edge_base = 0.0;
     o.n_radial_inner = 0;
     o.n_radial = nb + 4;
     o.n_edge_near = def.n_edge_near == 2 * nb ? 2 * nb : nb + 2;
@@ -57,6 +58,8 @@ stokes::QuadratureOptions variant(const std::string& spec, const stokes::Quadrat
   static const std::map<std::string, double Q::*> reals = {
       {"own_split", &Q::own_split},
       {"own_grading", &Q::own_grading},
+      {"own_edge_base", &Q::own_edge_base},
+      {"own_edge_slope", &Q::own_edge_slope},
       {"near_split", &Q::near_split},
       {"near_factor", &Q::near_factor},
       {"single_near_factor", &Q::single_near_factor},

@@ -64,6 +64,8 @@ QuadratureOptions resolve_defaults(const geometry::Mesh& mesh, QuadratureOptions
   if (opt.n_radial_near_out <= 0) opt.n_radial_near_out = std::max(4, nb - 2);
   if (opt.near_out_panels < 1 || opt.near_out_panels > 8)
     throw std::invalid_argument("BoundaryOperators: near_out_panels must be in 1..8");
+  if (!(opt.own_edge_slope >= 0.0))
+    throw std::invalid_argument("BoundaryOperators: own_edge_slope must be >= 0");
   if (opt.n_radial_inner > 0 &&
       !(opt.own_split > 0.0 && opt.own_split < 1.0 && opt.own_grading > 0.0))
     throw std::invalid_argument("BoundaryOperators: own_split must be in (0, 1), own_grading > 0");
@@ -495,6 +497,10 @@ QuadratureOptions scale_orders(const QuadratureOptions& resolved, const OrderSca
   up(q.nq_mid, k.mid > 0 ? k.mid : k.far);
   up(q.single_nq_mid, k.mid > 0 ? k.mid : k.far);
   up(q.n_edge, k.own);
+  if (q.own_edge_base > 0.0) {
+    q.own_edge_base *= k.own;
+    q.own_edge_slope *= k.own;
+  }
   up(q.n_radial, k.own);
   if (q.n_radial_inner > 0) up(q.n_radial_inner, k.own);
   up(q.n_edge_near, k.near);

@@ -14,8 +14,9 @@
 //    the node's coincidence class: 1, 2, 3 or 4): [-1,1]^2 is split by the perpendiculars from
 //    p0 to the 4 edges into right triangles (8 interior, 4 on an edge, 2 at a corner); in each,
 //    the edge coordinate is s = d sinh(tau) (d = distance from p0 to that edge) with
-//    `n_edge` Gauss points in tau, and the ray p0 -> edge point has a graded panel on
-//    [0, own_split] (u = own_grading sinh(sigma), `n_radial_inner` points) and `n_radial` Gauss
+//    Gauss points in tau by the side's range (own_edge_base, at most `n_edge`), and the ray
+//    p0 -> edge point has a graded panel on [0, own_split] (u = own_grading sinh(sigma),
+//    `n_radial_inner` points) and `n_radial` Gauss
 //    points on [own_split, 1] in the fraction u (polar Jacobian u d ds du cancels 1/r;
 //    Muldowney & Higdon 1995).
 //    Points and weights depend only on p0, i.e. on the node's (i, j) in the element, so these
@@ -121,6 +122,14 @@ struct QuadratureOptions {
   // rule; cached per mesh type). Off by default: at 3e-9 it removes 40-45 % of the own points
   // but misses the 1e-8 INT T.n identity at NE=10 NB=12 and takes seconds at NE=14.
   double own_tolerance = 0.0;
+  // Own element: the Gauss order along a side of the polar rule (L the side's length along its
+  // edge, d the node's distance to the edge, rho = asinh(L / d) the side's sinh range) is
+  // min(n_edge, ceil(nb (own_edge_base + own_edge_slope rho))): 2 nb only on the long, thin
+  // sides of nodes near an edge. own_edge_base <= 0: n_edge on every side. The same errors as
+  // n_edge everywhere on the sphere identities and the deformed shapes of tests/stokes, with
+  // 29-49 % fewer own points (docs/performance.md, "Own edge orders by the sinh range").
+  double own_edge_base = 0.7;
+  double own_edge_slope = 0.7;
   bool interpolate_jf = false;  // single layer: interpolate J f (faster, less accurate)
 };
 

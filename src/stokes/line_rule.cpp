@@ -41,7 +41,8 @@ void radial_nodes(double h, const spectral::Rule& gr, const RadialOpt& ro,
 }  // namespace
 
 void polar_rule(double s0, double t0, const double* hu, const spectral::Rule& ge,
-                const spectral::Rule& gr, LineRule& R, const RadialOpt& ro) {
+                const spectral::Rule& gr, LineRule& R, const RadialOpt& ro,
+                const std::function<const spectral::Rule&(double)>* edge_rule) {
   R.c.clear();
   R.start.assign(1, 0);
   R.base.clear();
@@ -64,7 +65,6 @@ void polar_rule(double s0, double t0, const double* hu, const spectral::Rule& ge
       {s0, 1.0, 1.0 - t0, 0, s0 + 1.0, 1.0 - s0},
   };
   constexpr double kTiny = 1e-14;
-  const int nge = static_cast<int>(ge.x.size());
   std::vector<std::pair<double, double>> rad;
   for (int ei = 0; ei < 4; ++ei) {
     if (ei == 2) R.n0 = static_cast<int>(R.c.size());
@@ -83,9 +83,10 @@ void polar_rule(double s0, double t0, const double* hu, const spectral::Rule& ge
       if (L < kTiny) continue;
       const double tau_max = std::asinh(L / E.d);
       const double dir = k == 0 ? -1.0 : 1.0;
-      for (int a = 0; a < nge; ++a) {
-        const double tau = 0.5 * tau_max * (ge.x[a] + 1.0);
-        const double wt = 0.5 * tau_max * ge.w[a];
+      const spectral::Rule& gs = edge_rule ? (*edge_rule)(tau_max) : ge;
+      for (int a = 0; a < static_cast<int>(gs.x.size()); ++a) {
+        const double tau = 0.5 * tau_max * (gs.x[a] + 1.0);
+        const double wt = 0.5 * tau_max * gs.w[a];
         R.off.push_back(dir * E.d * std::sinh(tau));
         R.wedge.push_back(wt * E.d * std::cosh(tau) * E.d);
       }

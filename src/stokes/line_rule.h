@@ -5,6 +5,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <functional>
 #include <vector>
 
 #include "geometry/mesh.h"
@@ -61,8 +62,10 @@ struct RadialOpt {
 // hu[edge] <= 0: plain Gauss in u (own element); hu > 0: radial sinh map u = hu sinh(sigma)
 // (near elements), sigma in [0, asinh(1/hu)] split into panels of length <= 6.
 // Edges in the order s = -1, s = +1 (constant-s lines), t = -1, t = +1 (constant-t lines).
+// edge_rule (optional): the Gauss rule of a side from its sinh range asinh(L / d), instead of ge.
 void polar_rule(double s0, double t0, const double* hu, const spectral::Rule& ge,
-                const spectral::Rule& gr, LineRule& R, const RadialOpt& ro = RadialOpt());
+                const spectral::Rule& gr, LineRule& R, const RadialOpt& ro = RadialOpt(),
+                const std::function<const spectral::Rule&(double)>* edge_rule = nullptr);
 
 // The across bases of a line rule: Lc, dLc at the line coordinates (prod_w:
 // spectral::product_weights of the element nodes). The matrices are resized only when they are

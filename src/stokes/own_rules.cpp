@@ -46,7 +46,15 @@ OwnRules::OwnRules(const geometry::Mesh& mesh, const QuadratureOptions& opt,
     LineRule r;
     const RadialOpt ro{graded ? &gl(opt.n_radial_inner) : nullptr, &gl(n_r),
                        graded ? opt.own_split : 0.0, 1};
-    polar_rule(xi[ic], xi[jc], hu_own, gl(n_e), gl(n_r), r, ro);
+    // the edge order of a side by its sinh range (QuadratureOptions::own_edge_base); the
+    // selection by own_tolerance chooses one order for every side
+    const std::function<const spectral::Rule&(double)> by_range =
+        [&](double range) -> const spectral::Rule& {
+      const double n = std::ceil(nb * (opt.own_edge_base + opt.own_edge_slope * range));
+      return gl(static_cast<int>(std::max(2.0, std::min<double>(n_e, n))));
+    };
+    const bool ranged = opt.own_edge_base > 0.0 && !(opt.own_tolerance > 0.0);
+    polar_rule(xi[ic], xi[jc], hu_own, gl(n_e), gl(n_r), r, ro, ranged ? &by_range : nullptr);
     fill_bases(mesh, prod_w, r);
     return r;
   };

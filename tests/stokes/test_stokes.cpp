@@ -217,6 +217,8 @@ TEST(StokesApi, ScaledOrdersMakeThePointPathAReference) {
   EXPECT_EQ(q.nq_mid, 2 * r.nq_mid);
   EXPECT_EQ(q.single_nq_mid, 2 * r.single_nq_mid);
   EXPECT_EQ(q.n_edge, static_cast<int>(std::lround(1.5 * r.n_edge)));
+  EXPECT_DOUBLE_EQ(q.own_edge_base, 1.5 * r.own_edge_base);  // every side's order x 1.5
+  EXPECT_DOUBLE_EQ(q.own_edge_slope, 1.5 * r.own_edge_slope);
   EXPECT_EQ(q.n_radial, static_cast<int>(std::lround(1.5 * r.n_radial)));
   EXPECT_EQ(q.n_edge_near, 3 * r.n_edge_near);
   EXPECT_EQ(q.n_radial_near, 3 * r.n_radial_near);

@@ -41,6 +41,7 @@ stokes::QuadratureOptions reference_options(int nb) {
   stokes::QuadratureOptions o;
   o.nq_far = nb + 12;
   o.n_edge = 3 * nb;
+  o.own_edge_base = 0.0;  // 3 nb on every side
   o.n_radial = 2 * nb;
   o.n_edge_near = 2 * nb;
   o.n_radial_near = 2 * nb;
