@@ -9,7 +9,8 @@
 // n_radial_inner, n_radial, own_split, own_grading, n_edge_near, n_radial_near, n_radial_near_out,
 // near_out_panels, near_split, near_factor, mid_factor, nq_far, nq_mid, single_near_factor,
 // single_nq_mid, single_mid_split. Usage: quadrature_study [--check-ref K] RUN_DIR|CKPT VARIANT...
-// Used for docs/performance.md ("Own and near radial rules").
+// Used for docs/performance.md ("Own and near radial rules", "Own edge orders by the sinh
+// range", "Accuracy").
 #include <omp.h>
 
 #include <algorithm>

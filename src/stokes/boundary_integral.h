@@ -16,9 +16,8 @@
 //    the edge coordinate is s = d sinh(tau) (d = distance from p0 to that edge) with
 //    Gauss points in tau by the side's range (own_edge_base, at most `n_edge`), and the ray
 //    p0 -> edge point has a graded panel on [0, own_split] (u = own_grading sinh(sigma),
-//    `n_radial_inner` points) and `n_radial` Gauss
-//    points on [own_split, 1] in the fraction u (polar Jacobian u d ds du cancels 1/r;
-//    Muldowney & Higdon 1995).
+//    `n_radial_inner` points) and `n_radial` Gauss points on [own_split, 1] in the fraction u
+//    (polar Jacobian u d ds du cancels 1/r; Muldowney & Higdon 1995).
 //    Points and weights depend only on p0, i.e. on the node's (i, j) in the element, so these
 //    rules (with the 1-D bases across their lines) are precomputed once per mesh
 //    (own_rules.h), for the (i, j) up to the 8 symmetries of the square (the element's nodal
