@@ -49,6 +49,8 @@ void polar_rule(double s0, double t0, const double* hu, const spectral::Rule& ge
   R.scale.clear();
   R.wscale.clear();
   R.set.clear();
+  R.edge.clear();
+  R.radial.clear();
   R.set_start.assign(1, 0);
   R.off.clear();
   R.wedge.clear();
@@ -94,8 +96,10 @@ void polar_rule(double s0, double t0, const double* hu, const spectral::Rule& ge
     const int set = static_cast<int>(R.set_start.size()) - 1;
     R.set_start.push_back(static_cast<int>(R.off.size()));
     const int m = R.set_start[set + 1] - R.set_start[set];
-    for (const auto& uw : rad) {
-      const double u = uw.first, wu = uw.second;
+    for (int q = 0; q < static_cast<int>(rad.size()); ++q) {
+      const double u = rad[q].first, wu = rad[q].second;
+      R.edge.push_back(ei);
+      R.radial.push_back(q);
       R.c.push_back(p_across + u * (f_across - p_across));
       R.base.push_back(p_along);
       R.scale.push_back(u);

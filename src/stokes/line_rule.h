@@ -29,6 +29,7 @@ struct LineRule {
   std::vector<int> start;                   // per line: first point (size nl + 1)
   std::vector<double> base, scale, wscale;  // per line: o = base + scale off, w = wscale wedge
   std::vector<int> set;                     // per line: its edge point set
+  std::vector<int> edge, radial;            // per line: its edge (0..3 as polar_rule) and ray node
   std::vector<int> set_start;               // per set: first entry of off / wedge (size sets + 1)
   std::vector<double> off, wedge;           // the edge point sets
   Eigen::MatrixXd Lc, dLc;                  // nb x nl: 1-D bases (and derivatives) at c

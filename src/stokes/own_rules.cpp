@@ -182,6 +182,35 @@ OwnRules::OwnRules(const geometry::Mesh& mesh, const QuadratureOptions& opt,
     std::lock_guard<std::mutex> lock(cache_mutex);
     cache.emplace(cache_key, chosen);
   }
+  make_row_bases(mesh, prod_w);
+}
+
+// The ray nodes shared by every rule (ray_nodes_ stays 0 if two rules differ) and the bases
+// across the lines of each node index.
+void OwnRules::make_row_bases(const geometry::Mesh& mesh, const VectorXd& prod_w) {
+  std::vector<double> u;
+  for (const LineRule& r : rules_)
+    for (int l = 0; l < r.nl(); ++l) {
+      const int q = r.radial[l];
+      if (q >= static_cast<int>(u.size())) u.resize(q + 1, -1.0);
+      if (u[q] < 0.0) u[q] = r.scale[l];
+      if (u[q] != r.scale[l]) return;
+    }
+  for (double v : u)
+    if (v < 0.0) return;
+  const int nb = mesh.nb(), nr = static_cast<int>(u.size());
+  const VectorXd& xi = mesh.nodes();
+  std::vector<double> c(2 * nr);
+  Eigen::MatrixXd L(2 * nr, nb), dL(2 * nr, nb);
+  for (int i = 0; i < nb; ++i) {
+    for (int side = 0; side < 2; ++side)
+      for (int q = 0; q < nr; ++q)  // as polar_rule places the lines of a node at xi[i]
+        c[side * nr + q] = xi[i] + u[q] * ((side ? 1.0 : -1.0) - xi[i]);
+    spectral::lagrange_bases(xi, prod_w, c.data(), 2 * nr, L.data(), dL.data(), L.rows());
+    row_bases_.push_back(L.transpose());
+    row_derivs_.push_back(dL.transpose());
+  }
+  ray_nodes_ = nr;
 }
 
 long OwnRules::points() const {

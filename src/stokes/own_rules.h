@@ -32,15 +32,44 @@ class OwnRules {
   // Per symmetry: canonical (a + nb b) -> local node of the element.
   const int* permutation(int sym) const { return canon_perm_[sym].data(); }
 
+  // The lines of the rules in the element's orientation. Every rule has the same ray nodes u_q
+  // (q < ray_nodes(); 0 with own_tolerance > 0, whose rules differ), so the constant-s lines of
+  // every node (i, j) of a column i lie at x_i + u_q (side - x_i), side = -1 or +1, whatever j
+  // (likewise the constant-t lines of a row j): the single layer interpolates across them once
+  // per element and node row for all its targets (own_lines.h). row_bases(i): the 1-D bases at
+  // those lines (nb x 2 ray_nodes(): column q for side -1, ray_nodes() + q for side +1),
+  // row_derivs(i) their derivatives.
+  int ray_nodes() const { return ray_nodes_; }
+  const Eigen::MatrixXd& row_bases(int i) const { return row_bases_[i]; }
+  const Eigen::MatrixXd& row_derivs(int i) const { return row_derivs_[i]; }
+  // Line l of a rule used with symmetry sym, in the element's orientation: a line of constant s
+  // (dir 0) or t (dir 1) on side 0 (-1) or 1 (+1) of the node, ray node q; the element's
+  // coordinate along the line is `along` times the rule's.
+  struct ElementLine {
+    int dir, side, q;
+    double along;
+  };
+  static ElementLine element_line(const LineRule& r, int l, int sym) {
+    const int cd = r.edge[l] >> 1, f = r.edge[l] & 1;  // the rule's direction and side
+    const bool fs = sym & 1, ft = sym & 2, sw = sym & 4;
+    const int dir = sw ? 1 - cd : cd;  // a swap exchanges the rule's s and t
+    const bool flip = dir == 0 ? fs : ft, flip_along = dir == 0 ? ft : fs;
+    return ElementLine{dir, flip ? 1 - f : f, r.radial[l], flip_along ? -1.0 : 1.0};
+  }
+
   int count() const { return static_cast<int>(rules_.size()); }
   long points() const;
   int max_lines() const;  // lines of the largest rule
 
  private:
+  void make_row_bases(const geometry::Mesh& mesh, const Eigen::VectorXd& prod_w);
+
   std::vector<LineRule> rules_;               // one per canonical node
   std::vector<int> canon_rule_;               // (i + nb j) -> rule index
   std::vector<int> canon_sym_;                // (i + nb j) -> symmetry bits
   std::vector<std::vector<int>> canon_perm_;  // per symmetry (8)
+  int ray_nodes_ = 0;
+  std::vector<Eigen::MatrixXd> row_bases_, row_derivs_;  // per node index
 };
 
 }  // namespace capflow::stokes
