@@ -20,11 +20,15 @@ using Eigen::Vector3d;
 using Eigen::VectorXd;
 
 namespace {
-// The single layer's counted flops over a special rule (OperatorStats::flops).
-double single_rule_flops(int nb, const LineRule& r) {
+// The single layer's counted flops (OperatorStats::flops): stage 1 of `lines` lines, stage 2
+// and the kernel at `points` points.
+double single_flops(int nb, double lines, double points) {
   const auto pad8 = [](int n) { return (n + 7) & ~7; };
-  return static_cast<double>(r.nl()) * (2.0 * nb * (pad8(6 * nb) + pad8(3 * nb)) + 3.0 * nb) +
-         static_cast<double>(r.np()) * (28.0 * nb + 36.0);
+  return lines * (2.0 * nb * (pad8(6 * nb) + pad8(3 * nb)) + 3.0 * nb) +
+         points * (28.0 * nb + 36.0);
+}
+double single_rule_flops(int nb, const LineRule& r) {
+  return single_flops(nb, r.nl(), r.np());
 }
 }  // namespace
 
@@ -183,6 +187,20 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
     // the Chebyshev element data once per element, with the tier every mode computes
     if (cheb && tier == 1) chebyshev_element(nb, K, cheb_, x, dens, e * nb2, ce[e]);
   }
+  // The single layer's own lines: stage 1 once per (element, direction, node index) of the
+  // targets' own elements (own_lines.h), when every own rule has the same ray nodes.
+  const bool shared_lines = cheb && node_targets && own_.ray_nodes() > 0;
+  OwnLines& own_lines = own_buffers.own_lines;
+  if (shared_lines) {
+    own_lines.reset(ne, nb, own_.ray_nodes());
+    for (int m : *node_targets)
+      for (int q : mesh.classes()[mesh.unique_of()[m]]) {
+        const int e = q / nb2, loc = q % nb2;
+        own_lines.need(e, 0, loc % nb);
+        own_lines.need(e, 1, loc / nb);
+      }
+    own_lines.build(own_, ce, team);
+  }
   // cell[e]: a bound on the distance from any point of element e to its nearest node, 0.6 x
   // the longest diagonal of a cell of four neighbouring nodes (a point of a cell is within half
   // its diagonal of a corner; the margin covers the curvature between the nodes)
@@ -269,6 +287,15 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
           const LineRule& r = own_.rule(loc);
           const int sym = own_.symmetry(loc);
           const double sign = OwnRules::sign(sym);
+          if (shared_lines) {
+            sc.rows.resize(r.nl());
+            for (int l = 0; l < r.nl(); ++l)
+              sc.rows[l] = own_lines.rows(e, OwnRules::element_line(r, l, sym), loc % nb, loc / nb);
+            single_rows_sum(nb, r, sc.rows.data(), x0, acc);
+            own_pairs += r.np();
+            line_flops += single_flops(nb, 0, r.np());
+            continue;
+          }
           if (cheb)
             load_chebyshev(nb, K, ce[e], sym, sc);
           else
@@ -340,17 +367,18 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
           polar_rule(np.s, np.t, hu, near_edge_, near_radial_, sc.near, ro);
           // the single layer evaluates the near rule's point bases line by line
           fill_bases(mesh, prod_w_, sc.near);
-          if (cheb)
-            load_chebyshev(nb, K, ce[e], 0, sc);
-          else
-            load_element(nb, K, x, sdens, e * nb2, nullptr, sc);
-          if constexpr (assemble) {
-            line_matrix(nb, sc.near, basis, 1.0, x0, sc, mw, mw.E, total);
-            scatter(mw.E, e * nb2, nullptr, k);
-          } else if (jf) {
-            line_sum_jf(nb, sc.near, basis, x0, sc, acc);
+          if (cheb) {
+            single_sum(nb, sc.near, ce[e], x0, sc, acc);
           } else {
-            line_sum<M>(nb, K, sc.near, basis, 1.0, x0, u0, sc, acc);
+            load_element(nb, K, x, sdens, e * nb2, nullptr, sc);
+            if constexpr (assemble) {
+              line_matrix(nb, sc.near, basis, 1.0, x0, sc, mw, mw.E, total);
+              scatter(mw.E, e * nb2, nullptr, k);
+            } else if (jf) {
+              line_sum_jf(nb, sc.near, basis, x0, sc, acc);
+            } else {
+              line_sum<M>(nb, K, sc.near, basis, 1.0, x0, u0, sc, acc);
+            }
           }
           near_pairs += sc.near.np();
           if (M == Mode::Single) line_flops += single_rule_flops(nb, sc.near);
@@ -379,6 +407,7 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
   stats.near_pairs = near_pairs;
   stats.near_elements = near_elements;
   stats.searches = searches;
+  if (shared_lines) line_flops += single_flops(nb, static_cast<double>(own_lines.lines()), 0);
   if (M == Mode::Single) stats.flops = line_flops + 31.0 * static_cast<double>(far_pairs);
   return stats;
 }

@@ -42,7 +42,10 @@
 // s = +-1, constant t for t = +-1). Interpolation is done in two stages: per line, the 1-D
 // interpolation across the lines (element data nb x 6nb times the 1-D bases: x, f and
 // d/d(across) x), then per point length-nb sums along the line (x, f, d/d(along) x and
-// d/d(across) x), i.e. ~12 nb multiply-adds per point instead of ~9 nb^2. The single layer
+// d/d(across) x), i.e. ~12 nb multiply-adds per point instead of ~9 nb^2. The own rules of the
+// nodes of one element column (row) share their constant-s (-t) lines in the element's
+// orientation, so the single layer does stage 1 of the own lines once per element and node row
+// for all the targets of a call (own_lines.h). The single layer
 // holds the element data along the lines in Chebyshev coefficients and evaluates T_k, T_k' at
 // each point by recurrences (no per-point bases); the other modes use Lagrange bases along the
 // line, made at each point in registers by the product formula (none stored or read), which keep
@@ -62,7 +65,8 @@
 // Failure modes: wrong matrix sizes or target indices throw std::invalid_argument.
 //
 // Files, one job each: line_rule (construction of the special rules), own_rules (the own rules
-// per canonical node and their selection), line_sums (kernel sums over a special rule on one
+// per canonical node and their selection), own_lines (the single layer's own lines after stage 1,
+// shared by the targets of a node row), line_sums (kernel sums over a special rule on one
 // element), far_field (the far tiers), kernel_point / kernel_mode (one point of the non-single-
 // layer sums; which sum), this file (the options and the operator: which rule for which
 // (target, element), the loop over targets); the nearest point of a near element is

@@ -503,6 +503,43 @@ template void line_sum<Mode::Double>(int, int, const LineRule&, const NodalBasis
 template void line_sum<Mode::DoubleNormal>(int, int, const LineRule&, const NodalBasis&, double,
                                            const Vector3d&, const Vector3d&, Scratch&, double*);
 
+void single_across(int nb, int nl, const double* Lc, const double* dLc, const RowMat& D, double* A,
+                   long ldA, double* B, long ldB) {
+  stage1(nb, nl, 6 * nb, 3 * nb, Lc, dLc, D.data(), D.cols(), A, ldA, B, ldB);
+}
+
+void single_sum(int nb, const LineRule& R, const ChebElement& ce, const Vector3d& x0, Scratch& sc,
+                double* acc) {
+  const int nl = R.nl(), n0 = R.n0, n1 = nl - n0;
+  size_lines(sc, nb, nl);
+  if (n0 > 0)
+    single_across(nb, n0, R.Lc.data(), R.dLc.data(), ce.cs, sc.A.data(), sc.A.cols(), sc.B.data(),
+                  sc.B.cols());
+  if (n1 > 0)
+    single_across(nb, n1, R.Lc.col(n0).data(), R.dLc.col(n0).data(), ce.ct, sc.A.row(n0).data(),
+                  sc.A.cols(), sc.B.row(n0).data(), sc.B.cols());
+  const NodalBasis unused{nullptr, nullptr, nullptr};  // the Chebyshev sums use no nodal bases
+  at_simd_width([&](auto w) {
+    lines_stage2<Mode::Single, decltype(w)::value>(nb, R, unused, 1.0, x0, Vector3d::Zero(), sc,
+                                                   acc);
+  });
+}
+
+void single_rows_sum(int nb, const LineRule& R, const LineRows* rows, const Vector3d& x0,
+                     double* acc) {
+  at_simd_width([&](auto w) {
+    constexpr int W = decltype(w)::value;
+    for (int l = 0; l < R.nl(); ++l) {
+      const int m = R.start[l + 1] - R.start[l];
+      if (m == 0) continue;
+      // -(base + scale off) exactly: T_k at the negated coordinate is (-1)^k T_k
+      const double a = rows[l].along;
+      single_line<W>(nb, m, rows[l].A, rows[l].B, a * R.base[l], a * R.scale[l], R.line_off(l),
+                     R.wscale[l], R.line_wedge(l), x0.data(), acc);
+    }
+  });
+}
+
 // Single layer with the product g = J f interpolated from its nodal values (sc.D0/D1 hold x
 // and g): 6 values per point instead of 12 (no tangents, no derivative bases).
 void line_sum_jf(int nb, const LineRule& R, const NodalBasis& basis, const Vector3d& x0,

@@ -18,11 +18,20 @@ namespace capflow::stokes {
 
 using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
+// The single layer's stage 1 of one line of a rule made elsewhere (own_lines.h): the line's row
+// of A and of B, and the sign of the element's coordinate along the line relative to the rule's.
+struct LineRows {
+  const double* A;
+  const double* B;
+  double along;
+};
+
 // Per-thread buffers of the kernel sums (kept across calls, see BoundaryOperators::apply).
 struct Scratch {
   RowMat D0, D1;  // element data, nb x (K nb): D0(i, k nb + j) = D1(j, k nb + i) = X_k(i, j)
   RowMat A, B;    // stage 1: values / derivative across, per line
   LineRule near;  // the near rule of the (target, element) being summed
+  std::vector<LineRows> rows;  // an own rule's lines made by OwnLines (own_lines.h)
 };
 
 // The element's 1-D interpolation nodes, their product weights (spectral::product_weights) and
@@ -78,6 +87,23 @@ void across_lines(int nb, int K, const LineRule& R, Scratch& sc);
 template <Mode M>
 void line_sum(int nb, int K, const LineRule& R, const NodalBasis& basis, double sign,
               const Eigen::Vector3d& x0, const Eigen::Vector3d& u0, Scratch& sc, double* acc);
+
+// Stage 1 of the single layer for nl lines with 1-D bases Lc, dLc (nb x nl, column-major) across
+// the lines of D (a ChebElement's cs for lines of constant s, ct for constant t): the lines' rows
+// of A (pad8(6 nb) columns, leading dimension ldA) and B (pad8(3 nb), ldB) as across_lines makes
+// them.
+void single_across(int nb, int nl, const double* Lc, const double* dLc, const RowMat& D, double* A,
+                   long ldA, double* B, long ldB);
+
+// The single layer over rule R in the element's own orientation (a near rule), stage 1 reading the
+// element's Chebyshev data ce in place (no load_chebyshev); adds to acc[0..2].
+void single_sum(int nb, const LineRule& R, const ChebElement& ce, const Eigen::Vector3d& x0,
+                Scratch& sc, double* acc);
+
+// Stage 2 of the single layer over the lines of R, each line's stage 1 given by rows[l] (its
+// points at the element coordinates rows[l].along * (base + scale off)); adds to acc[0..2].
+void single_rows_sum(int nb, const LineRule& R, const LineRows* rows, const Eigen::Vector3d& x0,
+                     double* acc);
 
 // Single layer with the product g = J f interpolated from its nodal values (sc.D0/D1 hold x
 // and g): 6 values per point instead of 12 (no tangents, no derivative bases).

@@ -11,6 +11,7 @@
 #include "stokes/kernel_mode.h"
 #include "stokes/line_sums.h"
 #include "stokes/matrix_sums.h"
+#include "stokes/own_lines.h"
 
 namespace capflow::stokes {
 
@@ -26,6 +27,7 @@ struct ThreadBuffers {
   FarData far[3];                    // a call's far data by tier: the calling thread's, shared with
                                      // its team
   std::vector<ChebElement> cheb;     // single layer: the elements in Chebyshev coefficients
+  OwnLines own_lines;                // single layer: a call's own lines after stage 1
   Scratch scratch;                   // a team thread's element data and line buffers
   std::vector<FarWorkspace> far_ws;  // a team thread's far_data temporaries, one per Gauss order
   MatrixWorkspace matrix;            // a team thread's matrix sums (the assembled double layer)
