@@ -467,15 +467,15 @@ void jf_lines_stage2(int nb, const LineRule& R, const NodalBasis& basis, const V
 
 }  // namespace
 
-void across_lines(int nb, int K, const LineRule& R, Scratch& sc) {
+void across_lines(int nb, int Kn, int n3, const LineRule& R, const RowMat& D0, const RowMat& D1,
+                  Scratch& sc) {
   const int nl = R.nl(), n0 = R.n0, n1 = nl - n0;
-  const int Kn = K * nb, n3 = 3 * nb;
   size_lines(sc, nb, nl);
   if (n0 > 0)
-    stage1(nb, n0, Kn, n3, R.Lc.data(), R.dLc.data(), sc.D0.data(), sc.D0.cols(), sc.A.data(),
+    stage1(nb, n0, Kn, n3, R.Lc.data(), R.dLc.data(), D0.data(), D0.cols(), sc.A.data(),
            sc.A.cols(), sc.B.data(), sc.B.cols());
   if (n1 > 0)
-    stage1(nb, n1, Kn, n3, R.Lc.col(n0).data(), R.dLc.col(n0).data(), sc.D1.data(), sc.D1.cols(),
+    stage1(nb, n1, Kn, n3, R.Lc.col(n0).data(), R.dLc.col(n0).data(), D1.data(), D1.cols(),
            sc.A.row(n0).data(), sc.A.cols(), sc.B.row(n0).data(), sc.B.cols());
 }
 
@@ -489,7 +489,7 @@ void line_sum(int nb, int K_arg, const LineRule& R, const NodalBasis& basis, dou
   // the number of interpolated quantities is the mode's (a constant for the compiler)
   constexpr int K = uses_density(M) ? 6 : 3;
   if (K_arg != K) throw std::invalid_argument("line_sum: K does not match the mode");
-  across_lines(nb, K, R, sc);
+  across_lines(nb, K * nb, 3 * nb, R, sc.D0, sc.D1, sc);
   at_simd_width(
       [&](auto w) { lines_stage2<M, decltype(w)::value>(nb, R, basis, sign, x0, u0, sc, acc); });
 }
@@ -510,14 +510,7 @@ void single_across(int nb, int nl, const double* Lc, const double* dLc, const Ro
 
 void single_sum(int nb, const LineRule& R, const ChebElement& ce, const Vector3d& x0, Scratch& sc,
                 double* acc) {
-  const int nl = R.nl(), n0 = R.n0, n1 = nl - n0;
-  size_lines(sc, nb, nl);
-  if (n0 > 0)
-    single_across(nb, n0, R.Lc.data(), R.dLc.data(), ce.cs, sc.A.data(), sc.A.cols(), sc.B.data(),
-                  sc.B.cols());
-  if (n1 > 0)
-    single_across(nb, n1, R.Lc.col(n0).data(), R.dLc.col(n0).data(), ce.ct, sc.A.row(n0).data(),
-                  sc.A.cols(), sc.B.row(n0).data(), sc.B.cols());
+  across_lines(nb, 6 * nb, 3 * nb, R, ce.cs, ce.ct, sc);
   const NodalBasis unused{nullptr, nullptr, nullptr};  // the Chebyshev sums use no nodal bases
   at_simd_width([&](auto w) {
     lines_stage2<Mode::Single, decltype(w)::value>(nb, R, unused, 1.0, x0, Vector3d::Zero(), sc,
@@ -544,15 +537,7 @@ void single_rows_sum(int nb, const LineRule& R, const LineRows* rows, const Vect
 // and g): 6 values per point instead of 12 (no tangents, no derivative bases).
 void line_sum_jf(int nb, const LineRule& R, const NodalBasis& basis, const Vector3d& x0,
                  Scratch& sc, double* acc) {
-  const int nl = R.nl(), n0 = R.n0, n1 = nl - n0;
-  const int Kn = 6 * nb;
-  size_lines(sc, nb, nl);
-  if (n0 > 0)
-    stage1(nb, n0, Kn, 0, R.Lc.data(), R.dLc.data(), sc.D0.data(), sc.D0.cols(), sc.A.data(),
-           sc.A.cols(), sc.B.data(), sc.B.cols());
-  if (n1 > 0)
-    stage1(nb, n1, Kn, 0, R.Lc.col(n0).data(), R.dLc.col(n0).data(), sc.D1.data(), sc.D1.cols(),
-           sc.A.row(n0).data(), sc.A.cols(), sc.B.row(n0).data(), sc.B.cols());
+  across_lines(nb, 6 * nb, 0, R, sc.D0, sc.D1, sc);  // no tangents: B is not made
   at_simd_width([&](auto w) { jf_lines_stage2<decltype(w)::value>(nb, R, basis, x0, sc, acc); });
 }
 }  // namespace capflow::stokes

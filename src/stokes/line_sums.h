@@ -75,9 +75,11 @@ void size_lines(Scratch& sc, int nb, int lines);
 void size_scratch(Scratch& sc, int nb, int lines);
 
 // Stage 1 of rule R: for every line, the 1-D interpolation across the lines of the element data in
-// sc.D0 (constant-s lines, the first R.n0) and sc.D1 (the others) into sc.A (K nb values at the
-// along nodes) and sc.B (d/d(across) of the position, 3 nb); sizes A and B.
-void across_lines(int nb, int K, const LineRule& R, Scratch& sc);
+// D0 (constant-s lines, the first R.n0) and D1 (the others; sc.D0 / sc.D1, or a ChebElement's cs /
+// ct) into sc.A (the first Kn columns: values at the along nodes or along coefficients) and sc.B
+// (the first n3: d/d(across) of the position; 0: none); sizes A and B.
+void across_lines(int nb, int Kn, int n3, const LineRule& R, const RowMat& D0, const RowMat& D1,
+                  Scratch& sc);
 
 // Sum the kernel over the points of one line rule; the element data are in sc.D0/D1 (in the
 // rule's orientation: load_element, or load_chebyshev for Mode::Single); sign: orientation of

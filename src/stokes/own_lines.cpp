@@ -1,11 +1,8 @@
 #include "stokes/own_lines.h"
 
-#include <omp.h>
-
 namespace capflow::stokes {
 
 void OwnLines::reset(int ne, int nb, int ray_nodes) {
-  ne_ = ne;
   nb_ = nb;
   nr_ = ray_nodes;
   slots_ = 0;

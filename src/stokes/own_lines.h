@@ -37,7 +37,7 @@ class OwnLines {
   }
 
  private:
-  int ne_ = 0, nb_ = 0, nr_ = 0, slots_ = 0;
+  int nb_ = 0, nr_ = 0, slots_ = 0;
   long ka_ = 0, kb_ = 0;       // columns of the A and B rows
   std::vector<int> slot_;      // (e * 2 + dir) * nb + i -> slot, -1 if not needed
   std::vector<int> key_;       // per slot: its (e * 2 + dir) * nb + i
