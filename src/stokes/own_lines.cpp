@@ -19,18 +19,18 @@ void OwnLines::need(int e, int dir, int i) {
   key_.push_back(key);
 }
 
-void OwnLines::build(const OwnRules& own, const std::vector<ChebElement>& ce, int team) {
+void OwnLines::allocate() {
   const long rows = static_cast<long>(slots_) * 2 * nr_;
   if (static_cast<long>(A_.size()) < rows * ka_) A_.resize(rows * ka_);
   if (static_cast<long>(B_.size()) < rows * kb_) B_.resize(rows * kb_);
-#pragma omp parallel for schedule(dynamic, 1) num_threads(team)
-  for (int s = 0; s < slots_; ++s) {
-    const int key = key_[s], i = key % nb_, dir = (key / nb_) % 2, e = key / (2 * nb_);
-    const long line = static_cast<long>(s) * 2 * nr_;
-    single_across(nb_, 2 * nr_, own.row_bases(i).data(), own.row_derivs(i).data(),
-                  dir == 0 ? ce[e].cs : ce[e].ct, A_.data() + line * ka_, ka_,
-                  B_.data() + line * kb_, kb_);
-  }
+}
+
+void OwnLines::make(int s, const OwnRules& own, const std::vector<ChebElement>& ce) {
+  const int key = key_[s], i = key % nb_, dir = (key / nb_) % 2, e = key / (2 * nb_);
+  const long line = static_cast<long>(s) * 2 * nr_;
+  single_across(nb_, 2 * nr_, own.row_bases(i).data(), own.row_derivs(i).data(),
+                dir == 0 ? ce[e].cs : ce[e].ct, A_.data() + line * ka_, ka_, B_.data() + line * kb_,
+                kb_);
 }
 
 }  // namespace capflow::stokes

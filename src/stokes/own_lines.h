@@ -23,10 +23,14 @@ class OwnLines {
   // The lines of node index i in direction dir (0: constant s, x_i + u (+-1 - x_i); 1: constant
   // t) of element e will be read.
   void need(int e, int dir, int i);
-  // Stage 1 of every marked (element, direction, node index) from the elements' Chebyshev data
-  // (ce, as line_sums.h chebyshev_element makes them) on `team` OpenMP threads.
-  void build(const OwnRules& own, const std::vector<ChebElement>& ce, int team);
-  // The number of lines build interpolated (for OperatorStats::flops).
+  // The marked (element, direction, node index) triples, the slots 0 .. slots() - 1.
+  int slots() const { return slots_; }
+  // Sizes the rows of every slot; after the last need, before make.
+  void allocate();
+  // Stage 1 of slot s from its element's Chebyshev data (ce, as line_sums.h chebyshev_element
+  // makes them). Slots may be made concurrently.
+  void make(int s, const OwnRules& own, const std::vector<ChebElement>& ce);
+  // The number of lines the slots interpolate (for OperatorStats::flops).
   long lines() const { return static_cast<long>(slots_) * 2 * nr_; }
   // The stage-1 rows of line L of an own rule of element e at the node (i, j) (i for dir 0, j
   // for dir 1 is the line's node index).

@@ -50,7 +50,8 @@ double path_difference(int ne, int nb, geometry::Division division,
       lines.need(e, 0, i);
       lines.need(e, 1, i);
     }
-  lines.build(own, ce, 1);
+  lines.allocate();
+  for (int s = 0; s < lines.slots(); ++s) lines.make(s, own, ce);
   EXPECT_EQ(lines.lines(), 2L * mesh.ne() * nb * 2 * own.ray_nodes());
 
   stokes::Scratch sc;
