@@ -3,12 +3,16 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <memory>
 #include <stdexcept>
+#include <thread>
 
 #include "geometry/element_search.h"
 #include "geometry/surface.h"
 #include "spectral/spectral.h"
+#include "stokes/element_bounds.h"
 #include "stokes/line_sums.h"
 #include "stokes/matrix_sums.h"
 #include "stokes/thread_buffers.h"
@@ -161,8 +165,8 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
         }
   }
   const Matrix3Xd* sdens = jf ? &g : dens;
-  std::vector<Vector3d> centre(ne);
-  std::vector<double> radius(ne), esize(ne);
+  std::vector<double> esize(ne);
+  std::vector<ElementBounds> bound(ne);
   // The buffers of a call stay with the calling thread, reused by its next call of this mode
   // (stokes/thread_buffers.h).
   ThreadBuffers& own_buffers = thread_buffers<M>();
@@ -177,16 +181,41 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
     far[tier].d.resize(10, ne * far[tier].nq * far[tier].nq);
   }
   const int team = team_size();  // this call's threads (stokes/thread_cap.h)
-  // one task per (tier, element): the far data is ~5 % of a call, serial it left a core idle;
-  // the inner tiers (the most points by default) first, so that cheap tasks end the loop
+  Matrix3Xd target_points(3, ntar);
+  for (int k = 0; k < ntar; ++k)
+    target_points.col(k) = node_targets ? x.col((*node_targets)[k]) : point_targets->col(k);
+  // The single layer's inner mid tier (2, the most points) of element e is made up front only
+  // where a target of the call may reach it (element_bounds.h): at the NE=6 octant the three
+  // far faces never take it. A pair the bound missed makes it when it needs it (make_inner).
+  std::vector<char> inner_reached(ne, 0);
+  // Phase 1, one task per (tier, element) of the tiers 1 and 0 (the far data is ~10 % of a call,
+  // serial it left a core idle), the dearer tier first: the Chebyshev element data with tier 1;
+  // with tier 0 the element's size, its bounds and whether a target reaches its inner tier.
 #pragma omp parallel for schedule(dynamic, 1) num_threads(team)
-  for (int task = 0; task < ntiers * ne; ++task) {
-    const int tier = ntiers - 1 - task / ne, e = task % ne;
+  for (int task = 0; task < 2 * ne; ++task) {
+    const int tier = 1 - task / ne, e = task % ne;
     const FarBasis& fb = far_basis_[tier];
     far_data<M>(mesh, x, dens, fb.w, fb.I, fb.Id, e, far[tier], tier == 0 ? &esize[e] : nullptr);
-    // the Chebyshev element data once per element, with the tier every mode computes
-    if (cheb && tier == 1) chebyshev_element(nb, K, cheb_, x, dens, e * nb2, ce[e]);
+    if (tier == 1) {
+      if (cheb) chebyshev_element(nb, K, cheb_, x, dens, e * nb2, ce[e]);
+    } else {
+      bound[e] = element_bounds(x, nb, e);
+      if (ntiers == 3)
+        inner_reached[e] = within_reach(x, nb, e, bound[e], target_points, split * esize[e]);
+    }
   }
+  // Per element, its inner tier's data: 0 absent, 1 being made, 2 made.
+  std::unique_ptr<std::atomic<char>[]> inner_state(new std::atomic<char>[ne]);
+  std::vector<int> inner;  // the elements whose inner tier phase 2 makes
+  for (int e = 0; e < ne; ++e) {
+    inner_state[e].store(0, std::memory_order_relaxed);
+    if (inner_reached[e]) inner.push_back(e);
+  }
+  const auto make_inner = [&](int e) {
+    const FarBasis& fb = far_basis_[2];
+    far_data<M>(mesh, x, dens, fb.w, fb.I, fb.Id, e, far[2], nullptr);
+    inner_state[e].store(2, std::memory_order_release);
+  };
   // The single layer's own lines: stage 1 once per (element, direction, node index) of the
   // targets' own elements (own_lines.h), when every own rule has the same ray nodes.
   const bool shared_lines = cheb && node_targets && own_.ray_nodes() > 0;
@@ -199,27 +228,30 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
         own_lines.need(e, 0, loc % nb);
         own_lines.need(e, 1, loc / nb);
       }
-    own_lines.build(own_, ce, team);
+    own_lines.allocate();
   }
-  // cell[e]: a bound on the distance from any point of element e to its nearest node, 0.6 x
-  // the longest diagonal of a cell of four neighbouring nodes (a point of a cell is within half
-  // its diagonal of a corner; the margin covers the curvature between the nodes)
-  std::vector<double> cell(ne);
-  for (int e = 0; e < ne; ++e) {
-    Vector3d cen = x.middleCols(e * nb2, nb2).rowwise().mean();
-    double rad = 0;
-    for (int k = 0; k < nb2; ++k) rad = std::max(rad, (x.col(e * nb2 + k) - cen).norm());
-    centre[e] = cen;
-    radius[e] = rad;
-    double diag = 0;
-    for (int j = 0; j + 1 < nb; ++j)
-      for (int i = 0; i + 1 < nb; ++i) {
-        const int q = e * nb2 + j * nb + i;
-        diag = std::max(diag, std::max((x.col(q) - x.col(q + nb + 1)).norm(),
-                                       (x.col(q + 1) - x.col(q + nb)).norm()));
-      }
-    cell[e] = 0.6 * diag;
+  // Phase 2: the reached inner tiers (the dearest tasks first), then the own lines' slots.
+  const int ninner = static_cast<int>(inner.size());
+  const int phase2 = ninner + (shared_lines ? own_lines.slots() : 0);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(team) if (phase2 > 0)
+  for (int task = 0; task < phase2; ++task) {
+    if (task < ninner)
+      make_inner(inner[task]);
+    else
+      own_lines.make(task - ninner, own_, ce);
   }
+  // the inner tier of e for a pair the bound missed: made by the first thread that needs it,
+  // awaited by the others
+  const auto need_inner = [&](int e) {
+    if (inner_state[e].load(std::memory_order_acquire) == 2) return false;
+    char absent = 0;
+    if (inner_state[e].compare_exchange_strong(absent, 1, std::memory_order_acq_rel)) {
+      make_inner(e);
+      return true;
+    }
+    while (inner_state[e].load(std::memory_order_acquire) != 2) std::this_thread::yield();
+    return false;
+  };
 
   const int max_near_lines = max_near_lines_, max_lines = max_lines_;
   const NodalBasis basis{mesh.nodes().data(), prod_w_.data(), mesh.diff().data()};
@@ -235,9 +267,10 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
   }
 
   long far_pairs = 0, own_pairs = 0, near_pairs = 0, near_elements = 0, searches = 0;
+  long late_inner = 0;
   double line_flops = 0;
 #pragma omp parallel num_threads(team) reduction(+ : far_pairs, own_pairs, near_pairs, \
-                                                   near_elements, searches, line_flops)
+                                                   near_elements, searches, line_flops, late_inner)
   {
     Scratch& sc = thread_buffers<M>().scratch;  // per OpenMP thread, kept across calls
     size_scratch(sc, nb, max_lines);
@@ -321,20 +354,12 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
         geometry::NearestPoint np;
         const double crit = near_factor * esize[e];
         const double crit_mid = opt_.mid_factor * esize[e];
-        if ((x0 - centre[e]).norm() - radius[e] < crit_mid) {
+        if ((x0 - bound[e].centre).norm() - bound[e].radius < crit_mid) {
           // The distance h of x0 to the element lies in [d - cell, d], d the distance to the
           // nearest node: the nearest point is searched only when h may be below crit (the
           // near rule needs it) or the interval straddles a tier's threshold.
-          double d2 = 1e300;
           int best = 0;
-          for (int q = 0; q < nb2; ++q) {
-            const double dq = (x.col(e * nb2 + q) - x0).squaredNorm();
-            if (dq < d2) {
-              d2 = dq;
-              best = q;
-            }
-          }
-          const double d = std::sqrt(d2), lo = d - cell[e];
+          const double d = nearest_node(x, nb, e, x0, &best), lo = d - bound[e].cell;
           const double thresholds[2] = {split * esize[e], crit_mid};
           bool decided = lo >= crit;
           for (double th : thresholds) decided = decided && (th <= 0.0 || lo >= th || d < th);
@@ -383,6 +408,7 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
           near_pairs += sc.near.np();
           if (M == Mode::Single) line_flops += single_rule_flops(nb, sc.near);
         } else {
+          if (tier == 2 && need_inner(e)) ++late_inner;
           const FarData& fd = far[tier];
           const int nqe = fd.nq * fd.nq;
           if constexpr (assemble) {
@@ -407,6 +433,8 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
   stats.near_pairs = near_pairs;
   stats.near_elements = near_elements;
   stats.searches = searches;
+  stats.inner_far_elements = ninner + late_inner;
+  stats.inner_far_late = late_inner;
   if (shared_lines) line_flops += single_flops(nb, static_cast<double>(own_lines.lines()), 0);
   if (M == Mode::Single) stats.flops = line_flops + 31.0 * static_cast<double>(far_pairs);
   return stats;

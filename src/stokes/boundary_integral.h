@@ -36,7 +36,8 @@
 //  * far elements: Gauss-Legendre, nq_mid x nq_mid for near_factor <= h/size < mid_factor
 //    (h from the Newton above), nq_far x nq_far beyond (bounding-sphere test). The Newton
 //    search runs only where the nearest node does not decide the tier (h lies within a cell
-//    diagonal of that node's distance).
+//    diagonal of that node's distance). The single layer's inner mid tier is made per call only
+//    for the elements a target of the call may reach by the same bounds (element_bounds.h).
 // Every special rule is a set of "lines": for a fixed u, the points of the two triangles on
 // one edge share the coordinate perpendicular to that edge (constant s for the edges
 // s = +-1, constant t for t = +-1). Interpolation is done in two stages: per line, the 1-D
@@ -67,7 +68,8 @@
 // Files, one job each: line_rule (construction of the special rules), own_rules (the own rules
 // per canonical node and their selection), own_lines (the single layer's own lines after stage 1,
 // shared by the targets of a node row), line_sums (kernel sums over a special rule on one
-// element), far_field (the far tiers), kernel_point / kernel_mode (one point of the non-single-
+// element), far_field (the far tiers), element_bounds (the node bounds the tiers are decided
+// with), kernel_point / kernel_mode (one point of the non-single-
 // layer sums; which sum), this file (the options and the operator: which rule for which
 // (target, element), the loop over targets); the nearest point of a near element is
 // geometry::nearest_point (geometry/element_search.h).
@@ -158,6 +160,10 @@ struct OperatorStats {
   long near_pairs = 0;     // near-singular points
   long near_elements = 0;  // (target, element) pairs treated as near
   long searches = 0;       // nearest-point searches (near and mid tier candidates)
+  // Single layer: the elements whose inner mid tier (single_nq_mid) was made, and of those the
+  // ones a target took although the bound of element_bounds.h said none would reach it.
+  long inner_far_elements = 0;
+  long inner_far_late = 0;
   // Single layer: the floating-point operations of its kernel sums, counted from the code of the
   // hot loops (line_sums.cpp single_line and stage1, far_field.cpp far_single; an FMA is 2, a
   // square root or division 1): per special point 28 nb + 36 (stage 2 with the Chebyshev

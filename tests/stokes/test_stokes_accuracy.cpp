@@ -94,9 +94,11 @@ double octant_error(int ne, int nb, const geometry::PointMap& map, const char* n
   const double err = (v - ref).cwiseAbs().maxCoeff() / scale;
   std::printf(
       "%s %-8s NE=%d NB=%d %zu targets: rel. max error %.2e (max|%s| %.3f); %.1f ms "
-      "(reference %.1f ms); pairs own/near/far %ld/%ld/%ld\n",
+      "(reference %.1f ms); pairs own/near/far %ld/%ld/%ld; inner far tier on %ld of %d "
+      "elements\n",
       single ? "SL" : "DL", name, ne, nb, t.size(), err, single ? "SL" : "DL", scale, ms, ms_ref,
-      stats.own_pairs, stats.near_pairs, stats.far_pairs);
+      stats.own_pairs, stats.near_pairs, stats.far_pairs, stats.inner_far_elements, mesh.ne());
+  EXPECT_EQ(stats.inner_far_late, 0);
   return err;
 }
 
