@@ -6,9 +6,12 @@
 #include <benchmark/benchmark.h>
 #include <omp.h>
 
+#include <algorithm>
+#include <chrono>
 #include <map>
 #include <memory>
 #include <tuple>
+#include <vector>
 
 #include "capsule/capsule.h"
 
@@ -56,8 +59,8 @@ void BM_Velocity(benchmark::State& st) {
 
 // The velocity on the paper's box division (NE=10, the Milestone 8 branch benchmarks).
 void BM_VelocityBox(benchmark::State& st) {
-  Setup& s = setup(static_cast<int>(st.range(0)), static_cast<int>(st.range(1)),
-                   geometry::Division::Box);
+  Setup& s =
+      setup(static_cast<int>(st.range(0)), static_cast<int>(st.range(1)), geometry::Division::Box);
   omp_set_num_threads(static_cast<int>(st.range(2)));
   for (auto _ : st) benchmark::DoNotOptimize(s.cap.velocity(s.cap.positions(), kCa));
 }
@@ -73,6 +76,39 @@ void BM_VelocityFarNb3(benchmark::State& st) {
   for (auto _ : st) benchmark::DoNotOptimize(cap.velocity(s.cap.positions(), kCa));
 }
 
+// Two threads against one in the same process, call by call: each iteration times one 1-thread
+// and one 2-thread velocity evaluation back to back (in alternating order), so that the
+// machine's slow and fast spells fall on both. Counters: the median times (ms) and the median
+// of the per-pair ratios. Before each timed call an empty parallel region wakes the team, as
+// the previous call of the same size would have left it spinning in BM_Velocity.
+void BM_VelocityThreadPairs(benchmark::State& st) {
+  Setup& s = setup(static_cast<int>(st.range(0)), static_cast<int>(st.range(1)),
+                   static_cast<geometry::Division>(st.range(2)));
+  const auto timed = [&](int threads) {
+    omp_set_num_threads(threads);
+#pragma omp parallel
+    benchmark::ClobberMemory();
+    const auto t0 = std::chrono::steady_clock::now();
+    benchmark::DoNotOptimize(s.cap.velocity(s.cap.positions(), kCa));
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  };
+  std::vector<double> one, two, ratio;
+  for (auto _ : st) {
+    const bool one_first = one.size() % 2 == 0;
+    const double a = timed(one_first ? 1 : 2), b = timed(one_first ? 2 : 1);
+    one.push_back(one_first ? a : b);
+    two.push_back(one_first ? b : a);
+    ratio.push_back(one.back() / two.back());
+  }
+  const auto median = [](std::vector<double> v) {
+    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+    return v[v.size() / 2];
+  };
+  st.counters["one_ms"] = median(one);
+  st.counters["two_ms"] = median(two);
+  st.counters["scaling"] = median(ratio);
+}
+
 void BM_Traction(benchmark::State& st) {
   Setup& s = setup(static_cast<int>(st.range(0)), static_cast<int>(st.range(1)));
   omp_set_num_threads(static_cast<int>(st.range(2)));
@@ -81,7 +117,8 @@ void BM_Traction(benchmark::State& st) {
 
 void args(benchmark::internal::Benchmark* b) {
   b->ArgNames({"NE", "NB", "threads"})->UseRealTime()->Unit(benchmark::kMillisecond);
-  for (const auto& [ne, nb] : std::initializer_list<std::pair<int, int>>{{6, 10}, {6, 12}, {14, 10}, {14, 12}})
+  for (const auto& [ne, nb] :
+       std::initializer_list<std::pair<int, int>>{{6, 10}, {6, 12}, {14, 10}, {14, 12}})
     for (int th : {1, 2}) b->Args({ne, nb, th});
 }
 }  // namespace
@@ -94,6 +131,12 @@ BENCHMARK(BM_VelocityBox)
     ->Unit(benchmark::kMillisecond)
     ->Args({10, 12, 1})
     ->Args({10, 12, 2});
+BENCHMARK(BM_VelocityThreadPairs)
+    ->ArgNames({"NE", "NB", "division"})
+    ->Unit(benchmark::kMillisecond)
+    ->Args({6, 10, static_cast<int>(geometry::Division::Cube)})
+    ->Args({10, 12, static_cast<int>(geometry::Division::Box)})
+    ->Args({14, 12, static_cast<int>(geometry::Division::Cube)});
 BENCHMARK(BM_VelocityFarNb3)->Apply(args);
 BENCHMARK(BM_Traction)->Apply(args);
 BENCHMARK_MAIN();

@@ -1,36 +1,29 @@
 #!/usr/bin/env bash
-# Two threads against one for the velocity evaluation (Milestone 9): runs bench_capsule ROUNDS
-# times; in each run Google Benchmark times the 1- and 2-thread variants back to back (medians
-# of 5 repetitions each), and their ratio is that round's scaling. Prints per case the median
-# times over the rounds, the median of the per-round ratios and the ratios themselves.
+# Two threads against one for the velocity evaluation (Milestone 9). Runs bench_capsule's
+# BM_VelocityThreadPairs ROUNDS times: inside a run each iteration times a 1-thread and a
+# 2-thread call back to back (so that the machine's slow spells fall on both), and the run's
+# scaling is the median of those per-pair ratios. Prints per case the median times and scaling
+# over the rounds and each round's scaling.
 # Usage: benchmarks/capsule/thread_scaling.sh [BENCH_CAPSULE] [ROUNDS] [FILTER]
 set -euo pipefail
-bin=${1:-build/benchmarks/capsule/bench_capsule} rounds=${2:-7}
-filter=${3:-'BM_Velocity(Box)?/NE:(6/NB:10|10/NB:12|14/NB:12)/'}
-out=$(mktemp)
-trap 'rm -f "$out"' EXIT
+bin=${1:-build/benchmarks/capsule/bench_capsule} rounds=${2:-5}
+filter=${3:-'BM_VelocityThreadPairs/'}
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
 for r in $(seq "$rounds"); do
-  "$bin" --benchmark_filter="$filter" --benchmark_repetitions=5 \
-    --benchmark_report_aggregates_only=true --benchmark_format=csv 2>/dev/null |
-    awk -F, -v r="$r" '/_median"/ {gsub(/"/, "", $1); sub(/_median$/, "", $1); print r, $1, $3}' \
-      >>"$out"
+  "$bin" --benchmark_filter="$filter" --benchmark_min_time=2 --benchmark_format=json \
+    >"$out/$r.json" 2>/dev/null
 done
-python3 - "$out" <<'PY'
-import collections, re, statistics, sys
-ms = collections.defaultdict(dict)  # (case, threads) -> {round: ms}
-for line in open(sys.argv[1]):
-    r, name, t = line.split()
-    m = re.match(r"(.*)/threads:(\d+)/real_time$", name)
-    if m:
-        ms[(m.group(1), int(m.group(2)))][int(r)] = float(t)
-print(f"{'case':34} {'1 thread ms':>11} {'2 threads ms':>12} {'scaling':>8}   per round")
-for case in dict.fromkeys(c for c, _ in ms):
-    one, two = ms.get((case, 1), {}), ms.get((case, 2), {})
-    rounds = sorted(set(one) & set(two))
-    if not rounds:
-        continue
-    ratios = [one[r] / two[r] for r in rounds]
-    print(f"{case:34} {statistics.median(one.values()):11.2f} "
-          f"{statistics.median(two.values()):12.2f} {statistics.median(ratios):8.2f}   " +
-          " ".join(f"{x:.2f}" for x in ratios))
+python3 - "$out" "$rounds" <<'PY'
+import collections, json, statistics, sys
+d, rounds = sys.argv[1], int(sys.argv[2])
+runs = collections.defaultdict(list)  # case -> [(1-thread ms, 2-thread ms, scaling)] per round
+for r in range(1, rounds + 1):
+    for b in json.load(open(f"{d}/{r}.json"))["benchmarks"]:
+        runs[b["name"]].append((b["one_ms"], b["two_ms"], b["scaling"]))
+print(f"{'case':44} {'1 thread ms':>11} {'2 threads ms':>12} {'scaling':>8}   per round")
+for case, v in runs.items():
+    med = [statistics.median(x[i] for x in v) for i in range(3)]
+    print(f"{case:44} {med[0]:11.2f} {med[1]:12.2f} {med[2]:8.2f}   " +
+          " ".join(f"{x[2]:.2f}" for x in v))
 PY
