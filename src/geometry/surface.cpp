@@ -106,16 +106,41 @@ double max_normal_turning(const Mesh& mesh, const Matrix3Xd& n, int* node) {
 SurfacePoint ElementEvaluator::eval(int e, double s, double t) const {
   const int nb = mesh_.nb();
   constexpr int kMax = 64;  // Mesh: nb <= 64; no allocation per call (Newton loops call this)
-  double ls[kMax], dls[kMax], lt[kMax], dlt[kMax], d2s[kMax] = {}, d2t[kMax] = {};
+  double ls[kMax], dls[kMax], lt[kMax], dlt[kMax], d2s[kMax], d2t[kMax];
   spectral::lagrange_basis(mesh_.nodes(), mesh_.bary(), s, ls, dls);
   spectral::lagrange_basis(mesh_.nodes(), mesh_.bary(), t, lt, dlt);
   // Second derivative of the interpolant: p''(s) = sum_k l_k'(s) (D p)_k, exact for degree nb-1.
   const MatrixXd& d = mesh_.diff();
-  for (int k = 0; k < nb; ++k)
-    for (int i = 0; i < nb; ++i) {
-      d2s[i] += dls[k] * d(k, i);
-      d2t[i] += dlt[k] * d(k, i);
+  for (int i = 0; i < nb; ++i) {
+    const double* di = d.col(i).data();
+    double a = 0, b = 0;
+    for (int k = 0; k < nb; ++k) {
+      a += dls[k] * di[k];
+      b += dlt[k] * di[k];
     }
+    d2s[i] = a;
+    d2t[i] = b;
+  }
+  // The element's nodes as 3 nb x nb: entry (3 i + c, j) is component c at node (i, j)
+  // (Mesh::local), contracted with the t-bases first (w0, w1, w2: with l, l', l'' in t; rows
+  // contiguous, so the 3 nb-long loop vectorises), then with the s-bases.
+  const double* X = x_.data() + 3 * static_cast<long>(mesh_.local(e, 0, 0));
+  const int rows = 3 * nb;
+  double w0[3 * kMax], w1[3 * kMax], w2[3 * kMax];
+  for (int r = 0; r < rows; ++r) {
+    w0[r] = lt[0] * X[r];
+    w1[r] = dlt[0] * X[r];
+    w2[r] = d2t[0] * X[r];
+  }
+  for (int j = 1; j < nb; ++j) {
+    const double* col = X + static_cast<long>(rows) * j;
+    const double a = lt[j], b = dlt[j], c = d2t[j];
+    for (int r = 0; r < rows; ++r) {
+      w0[r] += a * col[r];
+      w1[r] += b * col[r];
+      w2[r] += c * col[r];
+    }
+  }
   SurfacePoint p;
   p.x.setZero();
   p.xs.setZero();
@@ -123,20 +148,14 @@ SurfacePoint ElementEvaluator::eval(int e, double s, double t) const {
   p.xss.setZero();
   p.xst.setZero();
   p.xtt.setZero();
-  for (int j = 0; j < nb; ++j) {
-    Vector3d c0 = Vector3d::Zero(), c1 = Vector3d::Zero(), c2 = Vector3d::Zero();
-    for (int i = 0; i < nb; ++i) {
-      const Vector3d xi = x_.col(mesh_.local(e, i, j));
-      c0 += ls[i] * xi;
-      c1 += dls[i] * xi;
-      c2 += d2s[i] * xi;
-    }
-    p.x += lt[j] * c0;
-    p.xs += lt[j] * c1;
-    p.xt += dlt[j] * c0;
-    p.xss += lt[j] * c2;
-    p.xst += dlt[j] * c1;
-    p.xtt += d2t[j] * c0;
+  for (int i = 0; i < nb; ++i) {
+    const Eigen::Map<const Vector3d> v0(w0 + 3 * i), v1(w1 + 3 * i), v2(w2 + 3 * i);
+    p.x += ls[i] * v0;
+    p.xs += dls[i] * v0;
+    p.xss += d2s[i] * v0;
+    p.xt += ls[i] * v1;
+    p.xst += dls[i] * v1;
+    p.xtt += ls[i] * v2;
   }
   return p;
 }
