@@ -3,27 +3,32 @@
 # BM_VelocityThreadPairs ROUNDS times: inside a run each iteration times a 1-thread and a
 # 2-thread call back to back (so that the machine's slow spells fall on both), and the run's
 # scaling is the median of those per-pair ratios. Prints per case the median times and scaling
-# over the rounds and each round's scaling.
-# Usage: benchmarks/capsule/thread_scaling.sh [BENCH_CAPSULE] [ROUNDS] [FILTER]
+# over the rounds and each round's scaling. Several binaries (comma-separated) run in turn in
+# every round, so that their rounds share the machine's states.
+# Usage: benchmarks/capsule/thread_scaling.sh [BENCH_CAPSULE[,BENCH_CAPSULE...]] [ROUNDS] [FILTER]
 set -euo pipefail
-bin=${1:-build/benchmarks/capsule/bench_capsule} rounds=${2:-5}
-filter=${3:-'BM_VelocityThreadPairs/'}
+IFS=, read -r -a bins <<<"${1:-build/benchmarks/capsule/bench_capsule}"
+rounds=${2:-5} filter=${3:-'BM_VelocityThreadPairs/'}
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 for r in $(seq "$rounds"); do
-  "$bin" --benchmark_filter="$filter" --benchmark_min_time=2 --benchmark_format=json \
-    >"$out/$r.json" 2>/dev/null
+  for b in "${!bins[@]}"; do
+    "${bins[$b]}" --benchmark_filter="$filter" --benchmark_min_time=2 --benchmark_format=json \
+      >"$out/$b.$r.json" 2>/dev/null
+  done
 done
-python3 - "$out" "$rounds" <<'PY'
+python3 - "$out" "$rounds" "${bins[@]}" <<'PY'
 import collections, json, statistics, sys
-d, rounds = sys.argv[1], int(sys.argv[2])
-runs = collections.defaultdict(list)  # case -> [(1-thread ms, 2-thread ms, scaling)] per round
-for r in range(1, rounds + 1):
-    for b in json.load(open(f"{d}/{r}.json"))["benchmarks"]:
-        runs[b["name"]].append((b["one_ms"], b["two_ms"], b["scaling"]))
-print(f"{'case':44} {'1 thread ms':>11} {'2 threads ms':>12} {'scaling':>8}   per round")
-for case, v in runs.items():
-    med = [statistics.median(x[i] for x in v) for i in range(3)]
-    print(f"{case:44} {med[0]:11.2f} {med[1]:12.2f} {med[2]:8.2f}   " +
-          " ".join(f"{x[2]:.2f}" for x in v))
+d, rounds, bins = sys.argv[1], int(sys.argv[2]), sys.argv[3:]
+for b, path in enumerate(bins):
+    runs = collections.defaultdict(list)  # case -> [(1-thread ms, 2-thread ms, scaling)] per round
+    for r in range(1, rounds + 1):
+        for x in json.load(open(f"{d}/{b}.{r}.json"))["benchmarks"]:
+            runs[x["name"]].append((x["one_ms"], x["two_ms"], x["scaling"]))
+    print(path)
+    print(f"{'case':44} {'1 thread ms':>11} {'2 threads ms':>12} {'scaling':>8}   per round")
+    for case, v in runs.items():
+        med = [statistics.median(x[i] for x in v) for i in range(3)]
+        print(f"{case:44} {med[0]:11.2f} {med[1]:12.2f} {med[2]:8.2f}   " +
+              " ".join(f"{x[2]:.2f}" for x in v))
 PY
