@@ -70,21 +70,27 @@ ElementMinimum minimise_on_element(const ElementEvaluator& ev, const QuadraticOf
   return {s, t, p, f};
 }
 
+double nearest_node(const Mesh& mesh, const Eigen::Matrix3Xd& x, int e, const Vector3d& x0,
+                    int* node) {
+  const int nb2 = mesh.nb() * mesh.nb(), base = e * nb2;
+  double d2 = 1e300;
+  int best = 0;
+  for (int k = 0; k < nb2; ++k) {
+    const double dk = (x.col(base + k) - x0).squaredNorm();
+    if (dk < d2) {
+      d2 = dk;
+      best = k;
+    }
+  }
+  if (node) *node = best;
+  return std::sqrt(d2);
+}
+
 NearestPoint nearest_point(const Mesh& mesh, const Eigen::Matrix3Xd& x, int e, const Vector3d& x0,
                            int start_node) {
   const int nb = mesh.nb();
-  const int base = e * nb * nb;
   int best = start_node;
-  if (best < 0) {
-    double bd = 1e300;
-    for (int k = 0; k < nb * nb; ++k) {
-      const double d = (x.col(base + k) - x0).squaredNorm();
-      if (d < bd) {
-        bd = d;
-        best = k;
-      }
-    }
-  }
+  if (best < 0) nearest_node(mesh, x, e, x0, &best);
   const ElementEvaluator ev(mesh, x);
   QuadraticOfPosition psi;
   psi.c = x0;

@@ -48,6 +48,10 @@ struct NearestPoint {
   double s = 0, t = 0, h = 0;
   Eigen::Vector3d xs, xt;
 };
+// The distance from x0 to the nearest node of element e of the surface x; *node (if given) that
+// node's local index 0..nb^2-1.
+double nearest_node(const Mesh& mesh, const Eigen::Matrix3Xd& x, int e, const Eigen::Vector3d& x0,
+                    int* node = nullptr);
 // start_node: the element's nearest node (local index 0..nb^2-1) when the caller has it, -1 to
 // search for it.
 NearestPoint nearest_point(const Mesh& mesh, const Eigen::Matrix3Xd& x, int e,

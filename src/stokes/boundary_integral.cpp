@@ -201,7 +201,7 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
     } else {
       bound[e] = element_bounds(x, nb, e);
       if (ntiers == 3)
-        inner_reached[e] = within_reach(x, nb, e, bound[e], target_points, split * esize[e]);
+        inner_reached[e] = within_reach(mesh, x, e, bound[e], target_points, split * esize[e]);
     }
   }
   // Per element, its inner tier's data: 0 absent, 1 being made, 2 made.
@@ -307,11 +307,11 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
       const int k = order[kk];
       double acc[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
       double total[6] = {0, 0, 0, 0, 0, 0};  // assemble: the kernel's sum (the -u(x0) term)
-      Vector3d x0, u0 = Vector3d::Zero();
+      const Vector3d x0 = target_points.col(k);
+      Vector3d u0 = Vector3d::Zero();
       std::fill(own.begin(), own.end(), 0);
       if (node_targets) {
         const int m = (*node_targets)[k];
-        x0 = x.col(m);
         if (M == Mode::Double) u0 = dens->col(m);
         // own elements: every member of the coincidence class
         for (int q : mesh.classes()[mesh.unique_of()[m]]) {
@@ -344,8 +344,6 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
           own_pairs += r.np();
           if (M == Mode::Single) line_flops += single_rule_flops(nb, r);
         }
-      } else {
-        x0 = point_targets->col(k);
       }
       for (int e = 0; e < ne; ++e) {
         if (own[e]) continue;
@@ -359,7 +357,7 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
           // nearest node: the nearest point is searched only when h may be below crit (the
           // near rule needs it) or the interval straddles a tier's threshold.
           int best = 0;
-          const double d = nearest_node(x, nb, e, x0, &best), lo = d - bound[e].cell;
+          const double d = geometry::nearest_node(mesh, x, e, x0, &best), lo = d - bound[e].cell;
           const double thresholds[2] = {split * esize[e], crit_mid};
           bool decided = lo >= crit;
           for (double th : thresholds) decided = decided && (th <= 0.0 || lo >= th || d < th);

@@ -1,5 +1,7 @@
 #include "stokes/element_bounds.h"
 
+#include "geometry/element_search.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -22,29 +24,13 @@ ElementBounds element_bounds(const Eigen::Matrix3Xd& x, int nb, int e) {
   return b;
 }
 
-double nearest_node(const Eigen::Matrix3Xd& x, int nb, int e, const Eigen::Vector3d& x0,
-                    int* node) {
-  const int nb2 = nb * nb;
-  double d2 = 1e300;
-  int best = 0;
-  for (int q = 0; q < nb2; ++q) {
-    const double dq = (x.col(e * nb2 + q) - x0).squaredNorm();
-    if (dq < d2) {
-      d2 = dq;
-      best = q;
-    }
-  }
-  if (node) *node = best;
-  return std::sqrt(d2);
-}
-
-bool within_reach(const Eigen::Matrix3Xd& x, int nb, int e, const ElementBounds& b,
-                  const Eigen::Matrix3Xd& p, double th) {
+bool within_reach(const geometry::Mesh& mesh, const Eigen::Matrix3Xd& x, int e,
+                  const ElementBounds& b, const Eigen::Matrix3Xd& p, double th) {
   for (Eigen::Index k = 0; k < p.cols(); ++k) {
     const Eigen::Vector3d x0 = p.col(k);
     // the nearest node is at least the sphere's distance away
     if ((x0 - b.centre).norm() - b.radius - b.cell >= th) continue;
-    if (nearest_node(x, nb, e, x0, nullptr) - b.cell < th) return true;
+    if (geometry::nearest_node(mesh, x, e, x0) - b.cell < th) return true;
   }
   return false;
 }

@@ -45,10 +45,10 @@ TEST(ElementBounds, WithinReachNeverMissesANearerPoint) {
     for (int e = 0; e < mesh.ne(); ++e) {
       const stokes::ElementBounds b = stokes::element_bounds(x, nb, e);
       int best = 0;
-      stokes::nearest_node(x, nb, e, p, &best);
+      geometry::nearest_node(mesh, x, e, p, &best);
       const double h = geometry::nearest_point(mesh, x, e, p, best).h;
       for (double th : {0.05, 0.1, 0.2, 0.5}) {
-        if (stokes::within_reach(x, nb, e, b, p, th)) {
+        if (stokes::within_reach(mesh, x, e, b, p, th)) {
           ++in_reach;
         } else {
           ++out_of_reach;
