@@ -133,13 +133,13 @@ Eigen::Matrix3Xd Capsule::velocity_impl(const Eigen::Matrix3Xd& x, double ca,
   if (!(ca > 0)) throw std::invalid_argument("Capsule::velocity: Ca must be > 0");
   ++evaluations_;
   const SymmetryMap& sym = use_symmetry ? *symmetry_ : *no_symmetry_;
-  const Eigen::Matrix3Xd f = traction(x);
   const std::vector<int>& targets = sym.targets();
   Eigen::Matrix3Xd sl(3, targets.size());
   if (single_layer_)
-    single_layer_(x, f, targets, sl);
-  else
-    ops_->single_layer(x, f, targets, sl);
+    single_layer_(x, traction(x), targets, sl);
+  else  // the traction made by one thread while the others start on the geometry
+    ops_->single_layer(
+        x, [&](Eigen::Matrix3Xd& f) { f = traction(x); }, targets, sl);
   const double c = 1.0 / (8.0 * kPi * ca);
   Eigen::Matrix3Xd ut(3, targets.size());
   for (size_t k = 0; k < targets.size(); ++k)

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <exception>
 #include <memory>
 #include <stdexcept>
 #include <thread>
@@ -88,14 +89,8 @@ BoundaryOperators::BoundaryOperators(const geometry::Mesh& mesh, QuadratureOptio
       prod_w_(spectral::product_weights(mesh.nodes())),
       cheb_(spectral::chebyshev_matrix(mesh.nodes())),
       own_(mesh, opt_, prod_w_) {
-  const VectorXd& xi = mesh.nodes();
-  for (int tier = 0; tier < 3; ++tier) {
-    const spectral::Rule gq = spectral::gauss_legendre(
-        tier == 0 ? opt_.nq_far : (tier == 1 ? opt_.nq_mid : opt_.single_nq_mid));
-    far_basis_[tier].w = gq.w;
-    far_basis_[tier].I = spectral::interpolation_matrix(xi, gq.x);
-    far_basis_[tier].Id = spectral::derivative_matrix(xi, gq.x);
-  }
+  const int nq[3] = {opt_.nq_far, opt_.nq_mid, opt_.single_nq_mid};
+  for (int tier = 0; tier < 3; ++tier) far_basis_[tier] = far_basis(mesh.nodes(), nq[tier]);
   near_edge_ = spectral::gauss_legendre(opt_.n_edge_near);
   near_radial_ = spectral::gauss_legendre(opt_.n_radial_near);
   near_radial_out_ = spectral::gauss_legendre(opt_.n_radial_near_out);
@@ -107,13 +102,27 @@ template <BoundaryOperators::Mode M>
 OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens,
                                        const std::vector<int>* node_targets,
                                        const Matrix3Xd* point_targets, MatrixXd& out,
-                                       RowMat* matrix, const NodeExpansion* expansion) const {
+                                       RowMat* matrix, const NodeExpansion* expansion,
+                                       const DensityFn* make_density) const {
   const geometry::Mesh& mesh = mesh_;
   const int nb = mesh.nb(), nb2 = nb * nb, ne = mesh.ne();
   const int nloc = mesh.num_local();
   if (x.cols() != nloc) throw std::invalid_argument("BoundaryOperators: x has wrong size");
-  if (uses_density(M) && (!dens || dens->cols() != nloc))
-    throw std::invalid_argument("BoundaryOperators: density has wrong size");
+  // the density make_density makes (interpolate_jf needs it before the call's first phase)
+  Matrix3Xd made;
+  const bool jf = M == Mode::Single && opt_.interpolate_jf;
+  if (make_density && (!uses_density(M) || jf)) {
+    if (uses_density(M)) {
+      (*make_density)(made);
+      dens = &made;
+    }
+    make_density = nullptr;
+  }
+  const auto check_density = [&] {
+    if (uses_density(M) && (!dens || dens->cols() != nloc))
+      throw std::invalid_argument("BoundaryOperators: density has wrong size");
+  };
+  if (!make_density) check_density();
   const int ntar = node_targets ? static_cast<int>(node_targets->size())
                                 : static_cast<int>(point_targets->cols());
   if (node_targets)
@@ -147,7 +156,6 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
   const double split = single ? opt_.single_mid_split : 0.0;
   // Single layer with interpolate_jf: the special rules interpolate g = J f from its nodal
   // values (J = |x_xi x x_eta| at the nodes from the differentiation matrix).
-  const bool jf = M == Mode::Single && opt_.interpolate_jf;
   Matrix3Xd g;
   if (jf) {
     g.resize(3, nloc);
@@ -164,7 +172,6 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
           g.col(m) = xs.cross(xt).norm() * (*dens).col(m);
         }
   }
-  const Matrix3Xd* sdens = jf ? &g : dens;
   std::vector<double> esize(ne);
   std::vector<ElementBounds> bound(ne);
   // The buffers of a call stay with the calling thread, reused by its next call of this mode
@@ -188,22 +195,40 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
   // where a target of the call may reach it (element_bounds.h): at the NE=6 octant the three
   // far faces never take it. A pair the bound missed makes it when it needs it (make_inner).
   std::vector<char> inner_reached(ne, 0);
-  // Phase 1, one task per (tier, element) of the tiers 1 and 0 (the far data is ~10 % of a call,
-  // serial it left a core idle), the dearer tier first: the Chebyshev element data with tier 1;
-  // with tier 0 the element's size, its bounds and whether a target reaches its inner tier.
-#pragma omp parallel for schedule(dynamic, 1) num_threads(team)
-  for (int task = 0; task < 2 * ne; ++task) {
-    const int tier = 1 - task / ne, e = task % ne;
-    const FarBasis& fb = far_basis_[tier];
-    far_data<M>(mesh, x, dens, fb.w, fb.I, fb.Id, e, far[tier], tier == 0 ? &esize[e] : nullptr);
-    if (tier == 1) {
-      if (cheb) chebyshev_element(nb, K, cheb_, x, dens, e * nb2, ce[e]);
-    } else {
-      bound[e] = element_bounds(x, nb, e);
-      if (ntiers == 3)
-        inner_reached[e] = within_reach(mesh, x, e, bound[e], target_points, split * esize[e]);
+  // Phase 1, what needs only x: one task per (tier, element) of the tiers 1 and 0 (the far data
+  // is ~10 % of a call, serial it left a core idle), the dearer tier first: the far tier's
+  // surface rows; the Chebyshev element data of x with tier 1; with tier 0 the element's size,
+  // its bounds and whether a target reaches its inner tier. With make_density, the team's first
+  // thread computes the density meanwhile and then joins the tasks left.
+  std::exception_ptr density_error;
+#pragma omp parallel num_threads(team)
+  {
+    if (make_density && omp_get_thread_num() == 0) {
+      try {
+        (*make_density)(made);
+      } catch (...) {
+        density_error = std::current_exception();
+      }
+    }
+#pragma omp for schedule(dynamic, 1)
+    for (int task = 0; task < 2 * ne; ++task) {
+      const int tier = 1 - task / ne, e = task % ne;
+      far_geometry<M>(mesh, x, far_basis_[tier], e, far[tier], tier == 0 ? &esize[e] : nullptr);
+      if (tier == 1) {
+        if (cheb) chebyshev_element(nb, 0, 3, cheb_, x, nullptr, e * nb2, ce[e]);
+      } else {
+        bound[e] = element_bounds(x, nb, e);
+        if (ntiers == 3)
+          inner_reached[e] = within_reach(mesh, x, e, bound[e], target_points, split * esize[e]);
+      }
     }
   }
+  if (density_error) std::rethrow_exception(density_error);
+  if (make_density) {
+    dens = &made;
+    check_density();
+  }
+  const Matrix3Xd* sdens = jf ? &g : dens;
   // Per element, its inner tier's data: 0 absent, 1 being made, 2 made.
   std::unique_ptr<std::atomic<char>[]> inner_state(new std::atomic<char>[ne]);
   std::vector<int> inner;  // the elements whose inner tier phase 2 makes
@@ -212,8 +237,7 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
     if (inner_reached[e]) inner.push_back(e);
   }
   const auto make_inner = [&](int e) {
-    const FarBasis& fb = far_basis_[2];
-    far_data<M>(mesh, x, dens, fb.w, fb.I, fb.Id, e, far[2], nullptr);
+    far_data<M>(mesh, x, dens, far_basis_[2], e, far[2], nullptr);
     inner_state[e].store(2, std::memory_order_release);
   };
   // The single layer's own lines: stage 1 once per (element, direction, node index) of the
@@ -230,15 +254,25 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
       }
     own_lines.allocate();
   }
-  // Phase 2: the reached inner tiers (the dearest tasks first), then the own lines' slots.
+  // Phase 2, what needs the density: the reached inner tiers (the dearest tasks first) and the
+  // density rows of the tiers 1 and 0 (with the Chebyshev element data of the density), then
+  // the own lines' slots, which read that Chebyshev data.
   const int ninner = static_cast<int>(inner.size());
-  const int phase2 = ninner + (shared_lines ? own_lines.slots() : 0);
-#pragma omp parallel for schedule(dynamic, 1) num_threads(team) if (phase2 > 0)
-  for (int task = 0; task < phase2; ++task) {
-    if (task < ninner)
-      make_inner(inner[task]);
-    else
-      own_lines.make(task - ninner, own_, ce);
+  const int nslots = shared_lines ? own_lines.slots() : 0;
+#pragma omp parallel num_threads(team)
+  {
+#pragma omp for schedule(dynamic, 1)
+    for (int task = 0; task < ninner + 2 * ne; ++task) {
+      if (task < ninner) {
+        make_inner(inner[task]);
+        continue;
+      }
+      const int tier = 1 - (task - ninner) / ne, e = (task - ninner) % ne;
+      far_density<M>(mesh, dens, far_basis_[tier], e, far[tier]);
+      if (tier == 1 && cheb) chebyshev_element(nb, 3, K, cheb_, x, dens, e * nb2, ce[e]);
+    }
+#pragma omp for schedule(dynamic, 1)
+    for (int slot = 0; slot < nslots; ++slot) own_lines.make(slot, own_, ce);
   }
   // the inner tier of e for a pair the bound missed: made by the first thread that needs it,
   // awaited by the others
@@ -470,6 +504,14 @@ void BoundaryOperators::single_layer(const Matrix3Xd& x, const Matrix3Xd& f,
                                      OperatorStats* stats) const {
   MatrixXd v;
   keep(stats, apply<Mode::Single>(x, &f, &targets, nullptr, v));
+  out = v;
+}
+
+void BoundaryOperators::single_layer(const Matrix3Xd& x, const DensityFn& density,
+                                     const std::vector<int>& targets, Matrix3Xd& out,
+                                     OperatorStats* stats) const {
+  MatrixXd v;
+  keep(stats, apply<Mode::Single>(x, nullptr, &targets, nullptr, v, nullptr, nullptr, &density));
   out = v;
 }
 

@@ -76,6 +76,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <functional>
 #include <vector>
 
 #include "geometry/mesh.h"
@@ -197,6 +198,14 @@ class BoundaryOperators {
   // SL[f] at the listed local nodes only: out.col(k) = SL[f](x.col(targets[k])).
   void single_layer(const Matrix3Xd& x, const Matrix3Xd& f, const std::vector<int>& targets,
                     Matrix3Xd& out, OperatorStats* stats = nullptr) const;
+  // The same with f made during the call by density(f) (3 x num_local): the first thread of the
+  // call's team runs it while the others make what needs only x (the far tiers' surface data,
+  // the element bounds), so that a serial density (the membrane traction) does not leave the
+  // other threads idle. The result is that of the call with f. An exception of density
+  // propagates; a density of the wrong size throws std::invalid_argument.
+  using DensityFn = std::function<void(Matrix3Xd& f)>;
+  void single_layer(const Matrix3Xd& x, const DensityFn& density, const std::vector<int>& targets,
+                    Matrix3Xd& out, OperatorStats* stats = nullptr) const;
   // SL[f] at arbitrary points (on, near or off the surface): every element is near or far.
   Matrix3Xd single_layer_at(const Matrix3Xd& x, const Matrix3Xd& f, const Matrix3Xd& points,
                             OperatorStats* stats = nullptr) const;
@@ -238,7 +247,8 @@ class BoundaryOperators {
   OperatorStats apply(const Matrix3Xd& x, const Matrix3Xd* dens,
                       const std::vector<int>* node_targets, const Matrix3Xd* point_targets,
                       MatrixXd& out, RowMat* matrix = nullptr,
-                      const NodeExpansion* expansion = nullptr) const;
+                      const NodeExpansion* expansion = nullptr,
+                      const DensityFn* make_density = nullptr) const;
 
   const geometry::Mesh& mesh_;
   QuadratureOptions opt_;

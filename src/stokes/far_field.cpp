@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "spectral/spectral.h"
 #include "spectral/target_clones.h"
 #include "stokes/kernel_point.h"
 #include "stokes/thread_buffers.h"
@@ -14,11 +15,17 @@ using Eigen::MatrixXd;
 using Eigen::Vector3d;
 using Eigen::VectorXd;
 
+FarBasis far_basis(const VectorXd& nodes, int nq) {
+  const spectral::Rule gq = spectral::gauss_legendre(nq);
+  return {gq.w, spectral::interpolation_matrix(nodes, gq.x),
+          spectral::derivative_matrix(nodes, gq.x)};
+}
+
 template <Mode M>
-void far_data(const geometry::Mesh& mesh, const Matrix3Xd& x, const Matrix3Xd* dens,
-              const VectorXd& gw, const MatrixXd& I, const MatrixXd& Id, int e, FarData& F,
-              double* esize) {
-  const int nb = mesh.nb(), nb2 = nb * nb, nq = static_cast<int>(gw.size()), nqe = nq * nq;
+void far_geometry(const geometry::Mesh& mesh, const Matrix3Xd& x, const FarBasis& fb, int e,
+                  FarData& F, double* esize) {
+  const int nb = mesh.nb(), nb2 = nb * nb, nq = static_cast<int>(fb.w.size());
+  const MatrixXd &I = fb.I, &Id = fb.Id;
   // the thread's workspace for this order, kept across calls (stokes/thread_buffers.h):
   // allocated per call, these temporaries made the malloc arena grow and trim (~50 page faults a
   // call at NE=6 NB=10)
@@ -26,30 +33,23 @@ void far_data(const geometry::Mesh& mesh, const Matrix3Xd& x, const Matrix3Xd* d
   MatrixXd &X = ws.X, &XI = ws.XI, &IX = ws.IX;
   MatrixXd *xsq = ws.xsq, *xtq = ws.xtq;
   // The points in the order of F.d's columns (q = a + nq b: an nq x nq column-major matrix per
-  // row, so the products below write the positions and the density straight into F.d)
-  const int q0 = e * nqe;
+  // row, so the products below write the positions, and far_density the density, straight into
+  // F.d)
+  const int q0 = e * nq * nq;
   double* __restrict out[10];
   for (int r = 0; r < 10; ++r) out[r] = F.d.row(r).data() + q0;
-  using Grid = Eigen::Map<MatrixXd>;
   X.resize(nb, nb);
   for (int k = 0; k < 3; ++k) {
     for (int j = 0; j < nb; ++j)
       for (int i = 0; i < nb; ++i) X(i, j) = x(k, e * nb2 + j * nb + i);
     XI.noalias() = X * I.transpose();
-    Grid(out[k], nq, nq).noalias() = I * XI;
+    Eigen::Map<MatrixXd>(out[k], nq, nq).noalias() = I * XI;
     xsq[k].noalias() = Id * XI;
     IX.noalias() = I * X;
     xtq[k].noalias() = IX * Id.transpose();
-    if (uses_density(M)) {
-      for (int j = 0; j < nb; ++j)
-        for (int i = 0; i < nb; ++i) X(i, j) = (*dens)(k, e * nb2 + j * nb + i);
-      IX.noalias() = I * X;
-      Grid(out[3 + k], nq, nq).noalias() = IX * I.transpose();
-    } else {
-      std::fill_n(out[3 + k], nqe, 0.0);
-    }
   }
   // one vectorised loop per column b of the Gauss grid; the single layer reads only w J
+  const double* gw = fb.w.data();
   constexpr bool normals = M != Mode::Single;
   double ls = 0, lt = 0;
   for (int b = 0; b < nq; ++b) {
@@ -79,6 +79,32 @@ void far_data(const geometry::Mesh& mesh, const Matrix3Xd& x, const Matrix3Xd* d
   }
   // mean length of the longer family of coordinate lines (= 2 * mean |x_xi| or |x_eta|)
   if (esize) *esize = 0.5 * std::max(ls, lt);
+}
+
+template <Mode M>
+void far_density(const geometry::Mesh& mesh, const Matrix3Xd* dens, const FarBasis& fb, int e,
+                 FarData& F) {
+  const int nb = mesh.nb(), nb2 = nb * nb, nq = static_cast<int>(fb.w.size()), nqe = nq * nq;
+  if constexpr (!uses_density(M)) {
+    for (int k = 0; k < 3; ++k) std::fill_n(F.d.row(3 + k).data() + e * nqe, nqe, 0.0);
+  } else {
+    FarWorkspace& ws = far_workspace(thread_buffers<M>(), nq);
+    ws.X.resize(nb, nb);
+    for (int k = 0; k < 3; ++k) {
+      for (int j = 0; j < nb; ++j)
+        for (int i = 0; i < nb; ++i) ws.X(i, j) = (*dens)(k, e * nb2 + j * nb + i);
+      ws.IX.noalias() = fb.I * ws.X;
+      Eigen::Map<MatrixXd>(F.d.row(3 + k).data() + e * nqe, nq, nq).noalias() =
+          ws.IX * fb.I.transpose();
+    }
+  }
+}
+
+template <Mode M>
+void far_data(const geometry::Mesh& mesh, const Matrix3Xd& x, const Matrix3Xd* dens,
+              const FarBasis& fb, int e, FarData& F, double* esize) {
+  far_geometry<M>(mesh, x, fb, e, F, esize);
+  far_density<M>(mesh, dens, fb, e, F);
 }
 
 namespace {
@@ -135,29 +161,47 @@ void far_sum(const FarData& F, int q0, int q1, const Vector3d& x0, const Vector3
   }
 }
 
+template void far_geometry<Mode::Single>(const geometry::Mesh&, const Matrix3Xd&, const FarBasis&,
+                                         int, FarData&, double*);
+template void far_density<Mode::Single>(const geometry::Mesh&, const Matrix3Xd*, const FarBasis&,
+                                        int, FarData&);
 template void far_data<Mode::Single>(const geometry::Mesh&, const Matrix3Xd&, const Matrix3Xd*,
-                                     const VectorXd&, const MatrixXd&, const MatrixXd&, int,
-                                     FarData&, double*);
+                                     const FarBasis&, int, FarData&, double*);
 template void far_sum<Mode::Single>(const FarData&, int, int, const Vector3d&, const Vector3d&,
                                     double*);
+template void far_geometry<Mode::SingleNormal>(const geometry::Mesh&, const Matrix3Xd&,
+                                               const FarBasis&, int, FarData&, double*);
+template void far_density<Mode::SingleNormal>(const geometry::Mesh&, const Matrix3Xd*,
+                                              const FarBasis&, int, FarData&);
 template void far_data<Mode::SingleNormal>(const geometry::Mesh&, const Matrix3Xd&,
-                                           const Matrix3Xd*, const VectorXd&, const MatrixXd&,
-                                           const MatrixXd&, int, FarData&, double*);
+                                           const Matrix3Xd*, const FarBasis&, int, FarData&,
+                                           double*);
 template void far_sum<Mode::SingleNormal>(const FarData&, int, int, const Vector3d&,
                                           const Vector3d&, double*);
+template void far_geometry<Mode::Double>(const geometry::Mesh&, const Matrix3Xd&, const FarBasis&,
+                                         int, FarData&, double*);
+template void far_density<Mode::Double>(const geometry::Mesh&, const Matrix3Xd*, const FarBasis&,
+                                        int, FarData&);
 template void far_data<Mode::Double>(const geometry::Mesh&, const Matrix3Xd&, const Matrix3Xd*,
-                                     const VectorXd&, const MatrixXd&, const MatrixXd&, int,
-                                     FarData&, double*);
+                                     const FarBasis&, int, FarData&, double*);
 template void far_sum<Mode::Double>(const FarData&, int, int, const Vector3d&, const Vector3d&,
                                     double*);
+template void far_geometry<Mode::DoubleNormal>(const geometry::Mesh&, const Matrix3Xd&,
+                                               const FarBasis&, int, FarData&, double*);
+template void far_density<Mode::DoubleNormal>(const geometry::Mesh&, const Matrix3Xd*,
+                                              const FarBasis&, int, FarData&);
 template void far_data<Mode::DoubleNormal>(const geometry::Mesh&, const Matrix3Xd&,
-                                           const Matrix3Xd*, const VectorXd&, const MatrixXd&,
-                                           const MatrixXd&, int, FarData&, double*);
+                                           const Matrix3Xd*, const FarBasis&, int, FarData&,
+                                           double*);
 template void far_sum<Mode::DoubleNormal>(const FarData&, int, int, const Vector3d&,
                                           const Vector3d&, double*);
 
+template void far_geometry<Mode::DoubleMatrix>(const geometry::Mesh&, const Matrix3Xd&,
+                                               const FarBasis&, int, FarData&, double*);
+template void far_density<Mode::DoubleMatrix>(const geometry::Mesh&, const Matrix3Xd*,
+                                              const FarBasis&, int, FarData&);
 template void far_data<Mode::DoubleMatrix>(const geometry::Mesh&, const Matrix3Xd&,
-                                           const Matrix3Xd*, const VectorXd&, const MatrixXd&,
-                                           const MatrixXd&, int, FarData&, double*);
+                                           const Matrix3Xd*, const FarBasis&, int, FarData&,
+                                           double*);
 
 }  // namespace capflow::stokes

@@ -12,11 +12,13 @@
 
 namespace capflow::stokes {
 
-// A far tier's Gauss rule and its interpolation / derivative matrices from the element nodes.
+// A far tier's Gauss rule (nq points) and its interpolation / derivative matrices from the
+// element nodes.
 struct FarBasis {
   Eigen::VectorXd w;
   Eigen::MatrixXd I, Id;  // nq x nb
 };
+FarBasis far_basis(const Eigen::VectorXd& nodes, int nq);
 
 // Far-field data at the Gauss points, row-major rows: 0-2 x, 3-5 the density, 6-8
 // w (x_xi x x_eta) (not written for the single layer, which reads only w J), 9 w J.
@@ -25,15 +27,23 @@ struct FarData {
   RowMat d;
 };
 
-// Far-field data of element e at the nq x nq Gauss-Legendre points (weights gw; I, Id: the
-// nq x nb interpolation and derivative matrices from the nodes) into columns
+// The two parts of far_data: the surface rows (0-2, 6-9) and esize, which need only x, and the
+// density rows (3-5, zero for the modes without a density). A call makes the first while the
+// density is being computed (boundary_integral.h).
+template <Mode M>
+void far_geometry(const geometry::Mesh& mesh, const Eigen::Matrix3Xd& x, const FarBasis& fb, int e,
+                  FarData& F, double* esize);
+template <Mode M>
+void far_density(const geometry::Mesh& mesh, const Eigen::Matrix3Xd* dens, const FarBasis& fb,
+                 int e, FarData& F);
+
+// Far-field data of element e at the nq x nq Gauss-Legendre points of fb into columns
 // [e nq^2, (e + 1) nq^2) of F.d (rows as FarData says).
 // esize (optional): the element's size, the mean length of its longer family of coordinate
 // lines.
 template <Mode M>
 void far_data(const geometry::Mesh& mesh, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd* dens,
-              const Eigen::VectorXd& gw, const Eigen::MatrixXd& I, const Eigen::MatrixXd& Id, int e,
-              FarData& F, double* esize);
+              const FarBasis& fb, int e, FarData& F, double* esize);
 
 // Kernel sum over the far points [q0, q1) of F.
 template <Mode M>

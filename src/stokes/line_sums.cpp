@@ -46,14 +46,14 @@ void load_element(int nb, int K, const Matrix3Xd& x, const Matrix3Xd* dens, int 
     }
 }
 
-void chebyshev_element(int nb, int K, const MatrixXd& C, const Matrix3Xd& x, const Matrix3Xd* dens,
-                       int base, ChebElement& ce) {
+void chebyshev_element(int nb, int c0, int c1, const MatrixXd& C, const Matrix3Xd& x,
+                       const Matrix3Xd* dens, int base, ChebElement& ce) {
   const int kp = pad8(6 * nb);
   if (ce.cs.rows() != nb || ce.cs.cols() != kp) {
     ce.cs.setZero(nb, kp);
     ce.ct.setZero(nb, kp);
   }
-  for (int c = 0; c < K; ++c) {
+  for (int c = c0; c < c1; ++c) {
     const Matrix3Xd& v = c < 3 ? x : *dens;
     const int r = c % 3;
     for (int i = 0; i < nb; ++i)  // row i of cs: the coefficients in t at s_i; of ct: in s at t_i

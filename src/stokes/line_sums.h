@@ -46,7 +46,8 @@ struct NodalBasis {
 // An element's nodal data for the single layer with the coordinate along the rule lines in
 // Chebyshev coefficients (spectral::chebyshev_matrix), made once per element and call: cs row i
 // (s-node), column c nb + k = the k-th coefficient in t of X_c(s_i, t); ct row j (t-node),
-// column c nb + k = the k-th coefficient in s of X_c(s, t_j) (X_c: x, then the density if K = 6).
+// column c nb + k = the k-th coefficient in s of X_c(s, t_j) (X_c: x, then the density if K = 6);
+// chebyshev_element makes the columns of the components c0 <= c < c1 (0-2 x, 3-5 the density).
 // Stage 2 then evaluates T_k and T_k' = k U_{k-1} by their recurrences at each point instead of
 // Lagrange bases (no per-point basis evaluation). The other modes keep nodal data and Lagrange
 // bases (made in registers at each point, with the along derivative interpolated from the
@@ -57,7 +58,7 @@ struct NodalBasis {
 struct ChebElement {
   RowMat cs, ct;
 };
-void chebyshev_element(int nb, int K, const Eigen::MatrixXd& C, const Eigen::Matrix3Xd& x,
+void chebyshev_element(int nb, int c0, int c1, const Eigen::MatrixXd& C, const Eigen::Matrix3Xd& x,
                        const Eigen::Matrix3Xd* dens, int base, ChebElement& ce);
 // The data of ce in the orientation of symmetry sym (OwnRules bits: 1 flip s, 2 flip t, 4 swap;
 // 0 for the near rules) into sc.D0 / sc.D1, as line_sum<Mode::Single> expects them.

@@ -88,7 +88,7 @@ OwnRules::OwnRules(const geometry::Mesh& mesh, const QuadratureOptions& opt,
       const Eigen::MatrixXd C = spectral::chebyshev_matrix(xi);
       pr.cheb.resize(mesh.ne());
       for (int e = 0; e < mesh.ne(); ++e)
-        chebyshev_element(nb, 6, C, pr.x, &pr.f, e * nb * nb, pr.cheb[e]);
+        chebyshev_element(nb, 0, 6, C, pr.x, &pr.f, e * nb * nb, pr.cheb[e]);
       probes.push_back(std::move(pr));
     }
     size_scratch(sc, nb, 0);

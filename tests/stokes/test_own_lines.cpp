@@ -42,7 +42,7 @@ double path_difference(int ne, int nb, geometry::Division division,
   const Eigen::MatrixXd C = spectral::chebyshev_matrix(mesh.nodes());
   std::vector<stokes::ChebElement> ce(mesh.ne());
   for (int e = 0; e < mesh.ne(); ++e)
-    stokes::chebyshev_element(nb, 6, C, x, &f, e * nb * nb, ce[e]);
+    stokes::chebyshev_element(nb, 0, 6, C, x, &f, e * nb * nb, ce[e]);
   stokes::OwnLines lines;
   lines.reset(mesh.ne(), nb, own.ray_nodes());
   for (int e = 0; e < mesh.ne(); ++e)
