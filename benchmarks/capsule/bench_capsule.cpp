@@ -13,6 +13,7 @@
 #include <tuple>
 #include <vector>
 
+#include "../common/fma_chains.h"
 #include "capsule/capsule.h"
 
 using namespace capflow;
@@ -80,7 +81,10 @@ void BM_VelocityFarNb3(benchmark::State& st) {
 // and one 2-thread velocity evaluation back to back (in alternating order), so that the
 // machine's slow and fast spells fall on both. Counters: the median times (ms) and the median
 // of the per-pair ratios. Before each timed call an empty parallel region wakes the team, as
-// the previous call of the same size would have left it spinning in BM_Velocity.
+// the previous call of the same size would have left it spinning in BM_Velocity. The counter
+// `machine` is the same ratio for a fixed amount of pure FMA work (fma_chains, ~1.6 ms on one
+// thread, the same chains split between two), timed in the same iterations: how much of two
+// cores the machine gave at that moment (2.0 when the two virtual CPUs have a core each).
 void BM_VelocityThreadPairs(benchmark::State& st) {
   Setup& s = setup(static_cast<int>(st.range(0)), static_cast<int>(st.range(1)),
                    static_cast<geometry::Division>(st.range(2)));
@@ -92,13 +96,25 @@ void BM_VelocityThreadPairs(benchmark::State& st) {
     benchmark::DoNotOptimize(s.cap.velocity(s.cap.positions(), kCa));
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   };
-  std::vector<double> one, two, ratio;
+  // fixed FMA work, split between the threads
+  const auto fma_timed = [](int threads) {
+    constexpr long kIter = 1 << 20;
+    const auto t0 = std::chrono::steady_clock::now();
+    double sum = 0;
+#pragma omp parallel num_threads(threads) reduction(+ : sum)
+    sum += bench::fma_chains(kIter / threads);
+    benchmark::DoNotOptimize(sum);
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
+  std::vector<double> one, two, ratio, machine;
   for (auto _ : st) {
     const bool one_first = one.size() % 2 == 0;
     const double a = timed(one_first ? 1 : 2), b = timed(one_first ? 2 : 1);
     one.push_back(one_first ? a : b);
     two.push_back(one_first ? b : a);
     ratio.push_back(one.back() / two.back());
+    const double fa = fma_timed(one_first ? 1 : 2), fb = fma_timed(one_first ? 2 : 1);
+    machine.push_back(one_first ? fa / fb : fb / fa);
   }
   const auto median = [](std::vector<double> v) {
     std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
@@ -107,6 +123,7 @@ void BM_VelocityThreadPairs(benchmark::State& st) {
   st.counters["one_ms"] = median(one);
   st.counters["two_ms"] = median(two);
   st.counters["scaling"] = median(ratio);
+  st.counters["machine"] = median(machine);
 }
 
 void BM_Traction(benchmark::State& st) {

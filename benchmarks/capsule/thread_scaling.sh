@@ -3,8 +3,10 @@
 # BM_VelocityThreadPairs ROUNDS times: inside a run each iteration times a 1-thread and a
 # 2-thread call back to back (so that the machine's slow spells fall on both), and the run's
 # scaling is the median of those per-pair ratios. Prints per case the median times and scaling
-# over the rounds and each round's scaling. Several binaries (comma-separated) run in turn in
-# every round, so that their rounds share the machine's states.
+# over the rounds and each round's scaling, with the machine's own scaling of pure FMA work timed
+# in the same iterations (the counter `machine`: 2.0 when the two virtual CPUs have a core
+# each). Several binaries (comma-separated) run in turn in every round, so that their rounds
+# share the machine's states.
 # Usage: benchmarks/capsule/thread_scaling.sh [BENCH_CAPSULE[,BENCH_CAPSULE...]] [ROUNDS] [FILTER]
 set -euo pipefail
 IFS=, read -r -a bins <<<"${1:-build/benchmarks/capsule/bench_capsule}"
@@ -21,14 +23,15 @@ python3 - "$out" "$rounds" "${bins[@]}" <<'PY'
 import collections, json, statistics, sys
 d, rounds, bins = sys.argv[1], int(sys.argv[2]), sys.argv[3:]
 for b, path in enumerate(bins):
-    runs = collections.defaultdict(list)  # case -> [(1-thread ms, 2-thread ms, scaling)] per round
+    runs = collections.defaultdict(list)  # case -> [(1-thread ms, 2-thread ms, scaling, machine)]
     for r in range(1, rounds + 1):
         for x in json.load(open(f"{d}/{b}.{r}.json"))["benchmarks"]:
-            runs[x["name"]].append((x["one_ms"], x["two_ms"], x["scaling"]))
+            runs[x["name"]].append((x["one_ms"], x["two_ms"], x["scaling"], x["machine"]))
     print(path)
-    print(f"{'case':44} {'1 thread ms':>11} {'2 threads ms':>12} {'scaling':>8}   per round")
+    print(f"{'case':44} {'1 thread ms':>11} {'2 threads ms':>12} {'scaling':>8} {'machine':>8}"
+          "   per round: scaling (machine)")
     for case, v in runs.items():
-        med = [statistics.median(x[i] for x in v) for i in range(3)]
-        print(f"{case:44} {med[0]:11.2f} {med[1]:12.2f} {med[2]:8.2f}   " +
-              " ".join(f"{x[2]:.2f}" for x in v))
+        med = [statistics.median(x[i] for x in v) for i in range(4)]
+        print(f"{case:44} {med[0]:11.2f} {med[1]:12.2f} {med[2]:8.2f} {med[3]:8.2f}   " +
+              " ".join(f"{x[2]:.2f} ({x[3]:.2f})" for x in v))
 PY

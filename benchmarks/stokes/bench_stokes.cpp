@@ -5,6 +5,7 @@
 #include <benchmark/benchmark.h>
 #include <omp.h>
 
+#include "../common/fma_chains.h"
 #include "geometry/mesh.h"
 #include "geometry/shapes.h"
 #include "stokes/boundary_integral.h"
@@ -104,22 +105,9 @@ void BM_DoubleLayerMatrixOctant(benchmark::State& st) {
   report(st, stats);
 }
 
-// This machine's double-precision peak as code can reach it: 12 independent chains of 4-wide
-// fused multiply-adds (x86-64-v3 and v4 clones, GCC vector extension) per thread, long enough
-// to hide the FMA latency; flops counts 2 per lane per FMA. The reference for the fraction of
-// peak of the counted single-layer flops (OperatorStats::flops).
-typedef double v4d __attribute__((vector_size(32)));
-__attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default"), noinline)) double
-fma_chains(long n) {
-  v4d a[12];
-  for (int k = 0; k < 12; ++k) a[k] = v4d{1.0 + k * 1e-3, 1.0, 1.0, 1.0};
-  const v4d m = {0.999999, 0.999999, 0.999999, 0.999999}, c = {1e-6, 1e-6, 1e-6, 1e-6};
-  for (long i = 0; i < n; ++i)
-    for (int k = 0; k < 12; ++k) a[k] = a[k] * m + c;
-  double s = 0;
-  for (int k = 0; k < 12; ++k) s += a[k][0] + a[k][1] + a[k][2] + a[k][3];
-  return s;
-}
+// The machine's peak (benchmarks/common/fma_chains.h): the reference for the fraction of peak of
+// the counted single-layer flops (OperatorStats::flops).
+using bench::fma_chains;
 void BM_PeakFma(benchmark::State& st) {
   const int threads = static_cast<int>(st.range(0));
   constexpr long kIter = 1 << 20;
