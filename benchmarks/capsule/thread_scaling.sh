@@ -5,7 +5,8 @@
 # scaling is the median of those per-pair ratios. Prints per case the median times and scaling
 # over the rounds and each round's scaling, with the machine's own scaling of pure FMA work timed
 # in the same iterations (the counter `machine`: 2.0 when the two virtual CPUs have a core
-# each). Several binaries (comma-separated) run in turn in every round, so that their rounds
+# each) and the ratio of the 10th percentiles of the two times (`fast`: the calls no neighbour
+# on the machine slowed). Several binaries (comma-separated) run in turn in every round, so that their rounds
 # share the machine's states.
 # Usage: benchmarks/capsule/thread_scaling.sh [BENCH_CAPSULE[,BENCH_CAPSULE...]] [ROUNDS] [FILTER]
 set -euo pipefail
@@ -23,15 +24,16 @@ python3 - "$out" "$rounds" "${bins[@]}" <<'PY'
 import collections, json, statistics, sys
 d, rounds, bins = sys.argv[1], int(sys.argv[2]), sys.argv[3:]
 for b, path in enumerate(bins):
-    runs = collections.defaultdict(list)  # case -> [(1-thread ms, 2-thread ms, scaling, machine)]
+    runs = collections.defaultdict(list)  # case -> [(ms 1 thread, ms 2 threads, scaling, machine, fast)]
     for r in range(1, rounds + 1):
         for x in json.load(open(f"{d}/{b}.{r}.json"))["benchmarks"]:
-            runs[x["name"]].append((x["one_ms"], x["two_ms"], x["scaling"], x["machine"]))
+            runs[x["name"]].append((x["one_ms"], x["two_ms"], x["scaling"], x["machine"],
+                                    x["fast_scaling"]))
     print(path)
     print(f"{'case':44} {'1 thread ms':>11} {'2 threads ms':>12} {'scaling':>8} {'machine':>8}"
-          "   per round: scaling (machine)")
+          f" {'fast':>6}   per round: scaling (machine) [fast]")
     for case, v in runs.items():
-        med = [statistics.median(x[i] for x in v) for i in range(4)]
-        print(f"{case:44} {med[0]:11.2f} {med[1]:12.2f} {med[2]:8.2f} {med[3]:8.2f}   " +
-              " ".join(f"{x[2]:.2f} ({x[3]:.2f})" for x in v))
+        med = [statistics.median(x[i] for x in v) for i in range(5)]
+        print(f"{case:44} {med[0]:11.2f} {med[1]:12.2f} {med[2]:8.2f} {med[3]:8.2f} {med[4]:6.2f}   " +
+              " ".join(f"{x[2]:.2f} ({x[3]:.2f}) [{x[4]:.2f}]" for x in v))
 PY
