@@ -61,7 +61,11 @@
 //
 // Threading: every call runs an OpenMP loop over targets (omp_get_max_threads threads; the
 // caller limits with omp_set_num_threads, and stokes::set_thread_cap caps every call's team from
-// any thread: stokes/thread_cap.h). Objects are immutable after construction and
+// any thread: stokes/thread_cap.h), after two set-up phases of tasks: phase 1 what needs only
+// x (the far tiers' surface data, the Chebyshev element data of x, the element bounds), phase 2
+// what needs the density (the far tiers' density rows, the reached inner tiers), then the own
+// lines' stage 1. A density given as a function (single_layer with a DensityFn) is computed by
+// the team's first thread during phase 1. Objects are immutable after construction and
 // may be used from several threads; each call allocates its own scratch once per thread.
 // Failure modes: wrong matrix sizes or target indices throw std::invalid_argument.
 //
