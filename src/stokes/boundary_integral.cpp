@@ -108,14 +108,12 @@ OperatorStats BoundaryOperators::apply(const Matrix3Xd& x, const Matrix3Xd* dens
   const int nb = mesh.nb(), nb2 = nb * nb, ne = mesh.ne();
   const int nloc = mesh.num_local();
   if (x.cols() != nloc) throw std::invalid_argument("BoundaryOperators: x has wrong size");
-  // the density make_density makes (interpolate_jf needs it before the call's first phase)
+  // the density make_density makes (during phase 1; interpolate_jf needs it before)
   Matrix3Xd made;
   const bool jf = M == Mode::Single && opt_.interpolate_jf;
-  if (make_density && (!uses_density(M) || jf)) {
-    if (uses_density(M)) {
-      (*make_density)(made);
-      dens = &made;
-    }
+  if (make_density && jf) {
+    (*make_density)(made);
+    dens = &made;
     make_density = nullptr;
   }
   const auto check_density = [&] {

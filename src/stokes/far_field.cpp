@@ -21,10 +21,21 @@ FarBasis far_basis(const VectorXd& nodes, int nq) {
           spectral::derivative_matrix(nodes, gq.x)};
 }
 
+namespace {
+// Component k of v at the nodes of element e as an nb x nb grid: X(i, j) at node (i, j), i along
+// xi (local node e nb^2 + j nb + i).
+void node_grid(const Matrix3Xd& v, int nb, int e, int k, MatrixXd& X) {
+  X.resize(nb, nb);
+  const int base = e * nb * nb;
+  for (int j = 0; j < nb; ++j)
+    for (int i = 0; i < nb; ++i) X(i, j) = v(k, base + j * nb + i);
+}
+}  // namespace
+
 template <Mode M>
 void far_geometry(const geometry::Mesh& mesh, const Matrix3Xd& x, const FarBasis& fb, int e,
                   FarData& F, double* esize) {
-  const int nb = mesh.nb(), nb2 = nb * nb, nq = static_cast<int>(fb.w.size());
+  const int nb = mesh.nb(), nq = static_cast<int>(fb.w.size());
   const MatrixXd &I = fb.I, &Id = fb.Id;
   // the thread's workspace for this order, kept across calls (stokes/thread_buffers.h):
   // allocated per call, these temporaries made the malloc arena grow and trim (~50 page faults a
@@ -38,10 +49,8 @@ void far_geometry(const geometry::Mesh& mesh, const Matrix3Xd& x, const FarBasis
   const int q0 = e * nq * nq;
   double* __restrict out[10];
   for (int r = 0; r < 10; ++r) out[r] = F.d.row(r).data() + q0;
-  X.resize(nb, nb);
   for (int k = 0; k < 3; ++k) {
-    for (int j = 0; j < nb; ++j)
-      for (int i = 0; i < nb; ++i) X(i, j) = x(k, e * nb2 + j * nb + i);
+    node_grid(x, nb, e, k, X);
     XI.noalias() = X * I.transpose();
     Eigen::Map<MatrixXd>(out[k], nq, nq).noalias() = I * XI;
     xsq[k].noalias() = Id * XI;
@@ -84,15 +93,13 @@ void far_geometry(const geometry::Mesh& mesh, const Matrix3Xd& x, const FarBasis
 template <Mode M>
 void far_density(const geometry::Mesh& mesh, const Matrix3Xd* dens, const FarBasis& fb, int e,
                  FarData& F) {
-  const int nb = mesh.nb(), nb2 = nb * nb, nq = static_cast<int>(fb.w.size()), nqe = nq * nq;
+  const int nb = mesh.nb(), nq = static_cast<int>(fb.w.size()), nqe = nq * nq;
   if constexpr (!uses_density(M)) {
     for (int k = 0; k < 3; ++k) std::fill_n(F.d.row(3 + k).data() + e * nqe, nqe, 0.0);
   } else {
     FarWorkspace& ws = far_workspace(thread_buffers<M>(), nq);
-    ws.X.resize(nb, nb);
     for (int k = 0; k < 3; ++k) {
-      for (int j = 0; j < nb; ++j)
-        for (int i = 0; i < nb; ++i) ws.X(i, j) = (*dens)(k, e * nb2 + j * nb + i);
+      node_grid(*dens, nb, e, k, ws.X);
       ws.IX.noalias() = fb.I * ws.X;
       Eigen::Map<MatrixXd>(F.d.row(3 + k).data() + e * nqe, nq, nq).noalias() =
           ws.IX * fb.I.transpose();
