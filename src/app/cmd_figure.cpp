@@ -19,9 +19,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <functional>
-#include <iostream>
 #include <memory>
 #include <optional>
 #include <set>
@@ -29,7 +27,13 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+
 #include "app/commands.h"
+#include "app/console.h"
 #include "app/render_flags.h"
 #include "app/run_directory.h"
 #include "app/saved_state.h"
@@ -39,6 +43,8 @@
 #include "figures/kinds.h"
 #include "figures/run_tables.h"
 #include "figures/writer.h"
+#include "files/atomic_write.h"
+#include "files/input_file.h"
 #include "membrane/law.h"
 #include "output/png_writer.h"
 #include "render/renderer.h"
@@ -68,6 +74,30 @@ struct FigureCmd {
   RenderFlags view = figure_view_flags();  // the 3-D views
   std::string view_name;                   // --view: instead of each run's camera
 };
+
+// The largest sweep.csv read (10000 cases of a few hundred bytes each).
+constexpr std::size_t kMaxSweepCsv = std::size_t{64} << 20;
+
+// -o DIR: created when missing; a path that is not a directory, or cannot be made one, is a user
+// error naming it.
+void make_output_directory(const std::string& dir) {
+  std::error_code ec;
+  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
+    throw UserError("-o " + dir + ": exists and is not a directory: give a directory for the figures");
+  fs::create_directories(dir, ec);
+  if (ec) throw UserError("-o " + dir + ": cannot create the directory: " + ec.message());
+  if (::access(dir.c_str(), W_OK) != 0)
+    throw UserError("-o " + dir + ": the directory is not writable: " + std::strerror(errno));
+}
+
+// A frame PNG copied to a figure (output failures name the figure).
+void copy_frame(const std::string& from, const fs::path& to) {
+  try {
+    files::write_atomically(to.string(), files::read_input_file(from, "frame", 1u << 30));
+  } catch (const files::InputError& e) {
+    throw UserError(e.what());
+  }
+}
 
 // ---- 3-D views
 
@@ -181,8 +211,8 @@ void view_figures(figures::Writer& w, const FigureCmd& cmd, const std::vector<Ru
                 << " view), coloured by " << field_label(o.field) << " (colour bar), rendered from "
                 << st->note << " (paper figs. 6c, 7c, 10). Files: " << name << ".png.";
           w.record(name, entry.str());
-          std::cerr << "figure: " << name << " (" << name
-                    << ".png, rendered at t = " << short_num(s.time) << ")\n";
+          w.say("figure: " + name + " (" + name + ".png, rendered at t = " + short_num(s.time) +
+                ")");
           rendered = true;
         }
       }
@@ -195,7 +225,7 @@ void view_figures(figures::Writer& w, const FigureCmd& cmd, const std::vector<Ru
       std::vector<double> ft;
       for (const auto& f : frames) ft.push_back(f.first);
       const auto& f = frames[static_cast<size_t>(figures::nearest(ft, t_name))];
-      fs::copy_file(f.second, png, fs::copy_options::overwrite_existing);
+      copy_frame(f.second, png);
       const std::string msg = name + ": NOT rendered at t = " + short_num(t_name) + " (" +
                               (note.empty() ? renderer_error : note) +
                               "): copied the nearest frame " + f.second +
@@ -204,8 +234,7 @@ void view_figures(figures::Writer& w, const FigureCmd& cmd, const std::vector<Ru
       w.record(name, "- **" + name + "**: 3-D view of run " + run.label +
                          " from the saved frame nearest in time (see the note above). Files: " +
                          name + ".png.");
-      std::cerr << "figure: " << name << " (" << name
-                << ".png, from frame t = " << short_num(f.first) << ")\n";
+      w.say("figure: " + name + " (" + name + ".png, from frame t = " + short_num(f.first) + ")");
     }
   }
 }
@@ -224,7 +253,7 @@ void expand_sweeps(FigureCmd* c) {
       continue;
     }
     any = true;
-    std::ifstream in(csv);
+    std::istringstream in(files::read_input_file(csv.string(), "sweep summary", kMaxSweepCsv));
     std::string header, line;
     std::getline(in, header);
     std::vector<std::string> keys;
@@ -279,7 +308,8 @@ int run(FigureCmd c) {
   if (!c.labels.empty() && c.labels.size() != c.runs.size())
     throw UserError("--labels needs one label per run directory (" + std::to_string(c.runs.size()) +
                     ")");
-  if (c.vector != "svg" && c.vector != "pdf") throw UserError("--vector: svg or pdf");
+  if (c.vector != "svg" && c.vector != "pdf")
+    throw UserError("--vector " + c.vector + ": unknown format (svg | pdf)");
   const std::set<std::string> known{"timeseries", "profiles", "steady", "views"};
   for (const auto& k : c.kinds)
     if (!known.count(k))
@@ -297,9 +327,10 @@ int run(FigureCmd c) {
     runs.push_back(r);
   }
 
-  fs::create_directories(c.out);
+  make_output_directory(c.out);
   const bool gnuplot = !c.no_gnuplot && figures::gnuplot_on_path();
-  figures::Writer w(c.out, c.vector, !c.no_png, gnuplot);
+  figures::Writer w(c.out, c.vector, !c.no_png, gnuplot,
+                    [](const std::string& line) { console::err(line); });
   std::ostringstream header;
   header << "# capflow figures\n\nWritten by `capflow figure` from:";
   for (const auto& r : runs) header << " `" << r.dir << "` (" << r.label << ")";
@@ -324,14 +355,27 @@ int run(FigureCmd c) {
     w.write_manifest(header.str());
   } catch (const UserError&) {
     throw;
-  } catch (const std::runtime_error& e) {  // a file that cannot be written or read
+  } catch (const OutputError&) {
+    throw;
+  } catch (const files::WriteError& e) {  // a figure that cannot be written
+    throw OutputError(e.what());
+  } catch (const std::runtime_error& e) {  // a file that cannot be read
     throw UserError(e.what());
   }
-  std::cerr << "figure: " << w.written().size() << " figures in " << c.out
-            << " (list: figures.md)\n";
+  console::err("figure: " + std::to_string(w.written().size()) + " figures in " + c.out +
+               " (list: figures.md)");
   if (w.written().empty()) throw UserError("no figure could be made from the given runs");
-  if (!c.no_gnuplot && !gnuplot) return 1;
-  return w.failures() ? 1 : 0;
+  if (!c.no_gnuplot && !gnuplot)
+    throw OutputError(
+        "gnuplot not found (apt-get install gnuplot-nox, or scripts/setup): the images of the 2-D "
+        "figures were not made (their .gp and .dat files are in " +
+        c.out + "; --no-gnuplot makes only those)");
+  if (w.failures())
+    throw OutputError(std::to_string(w.failures()) +
+                      " figure(s) could not be drawn by gnuplot (figures.md and the "
+                      "<name>.gnuplot.log files in " +
+                      c.out + " say why)");
+  return exit_code::kOk;
 }
 
 void setup(CLI::App& root) {

@@ -12,11 +12,12 @@
 //   capflow render --shape lamellar --demo x --colormap coolwarm --view xy -o lamellar.png
 #include <array>
 #include <cmath>
-#include <iostream>
 #include <optional>
+#include <sstream>
 #include <string>
 
 #include "app/commands.h"
+#include "app/console.h"
 #include "app/render_flags.h"
 #include "app/saved_state.h"
 #include "geometry/mesh.h"
@@ -124,7 +125,7 @@ int run(const RenderCmd& c) {
     if (c.shape_given) throw UserError("--shape, --ellipsoid, --demo: only without a SOURCE");
     SavedState st = load_saved_state(c.source, c.time);
     if (st.camera && !c.camera_given) o.camera = *st.camera;
-    std::cerr << "render: " << st.note << "\n";
+    console::err("render: " + st.note);
     s = std::move(st.snapshot);
   } else {
     if (c.time) throw UserError("--time: only with a SOURCE (a run directory)");
@@ -138,14 +139,16 @@ int run(const RenderCmd& c) {
 
   try {
     Renderer r(o);
-    std::cerr << r.context_info().summary() << "\n";
+    console::err(r.context_info().summary());
     Image img;
     FrameTimings t;
     r.render(s, &img, &t);
     output::write_png(c.out, img.width, img.height, img.rgba.data());
-    std::cerr << "render: wrote " << c.out << " (" << img.width << "x" << img.height
-              << ", upsample " << t.upsample_ms << " ms, draw " << t.draw_ms << " ms, overlay "
-              << t.overlay_ms << " ms, readback " << t.readback_ms << " ms)\n";
+    std::ostringstream m;
+    m << "render: wrote " << c.out << " (" << img.width << "x" << img.height << ", upsample "
+      << t.upsample_ms << " ms, draw " << t.draw_ms << " ms, overlay " << t.overlay_ms
+      << " ms, readback " << t.readback_ms << " ms)";
+    console::err(m.str());
   } catch (const std::invalid_argument& e) {
     throw UserError(e.what());
   } catch (const std::runtime_error& e) {

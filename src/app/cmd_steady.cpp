@@ -5,11 +5,11 @@
 // Exit codes (app/errors.h): 0 every level solved, 2 invalid input (a rotational flow, a ramp),
 // 4 a level without a steady state, 5 a run file could not be written.
 #include <atomic>
-#include <iostream>
 #include <memory>
 #include <string>
 
 #include "app/commands.h"
+#include "app/console.h"
 #include "app/steady_run.h"
 #include "app/stop_signal.h"
 #include "control/control_file.h"
@@ -33,7 +33,7 @@ void steady_cmd(const SteadyArgs& a) {
   const SteadyControlFile live{a.control, parsed.options};
   if (!a.output_dir.empty()) parsed.options.output.dir = a.output_dir;
   for (const auto& w : parsed.warnings)
-    if (w.path != "time.dt") std::cerr << "capflow: warning: " << w.str() << "\n";
+    if (w.path != "time.dt") console::err("capflow: warning: " + w.str());
   const SteadySummary s = run_steady(parsed.options, a.overwrite, install_stop_signals(), live);
   set_exit_code(s.exit_code());
 }

@@ -10,7 +10,6 @@
 //      with consistent files once the cause is removed)
 #pragma once
 
-#include <iostream>
 #include <stdexcept>
 #include <string>
 
@@ -39,19 +38,13 @@ struct OutputError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The exit code of an exception that ends a command: UserError, control::ControlError and
+// files::InputError (a file or input that cannot be used) 2; OutputError and files::WriteError
+// (a file that cannot be written) 5; anything else 3.
+int exit_code_of(const std::exception& e);
+
 // Prints what went wrong as capflow reports it ("capflow: error: ...", "capflow: output error:
-// ...", "capflow: internal error: ...") and returns the matching exit code.
-inline int report_failure(const std::exception& e) {
-  if (dynamic_cast<const UserError*>(&e)) {
-    std::cerr << "capflow: error: " << e.what() << "\n";
-    return exit_code::kUserError;
-  }
-  if (dynamic_cast<const OutputError*>(&e)) {
-    std::cerr << "capflow: output error: " << e.what() << "\n";
-    return exit_code::kOutputFailed;
-  }
-  std::cerr << "capflow: internal error: " << e.what() << "\n";
-  return exit_code::kInternal;
-}
+// ...", "capflow: internal error: ..."; app/console.h) and returns exit_code_of(e).
+int report_failure(const std::exception& e);
 
 }  // namespace capflow::app

@@ -1,11 +1,12 @@
 // capflow: spectral boundary element simulation of elastic capsules in Stokes flow.
 #include <algorithm>
-#include <iostream>
+#include <csignal>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "app/commands.h"
+#include "app/console.h"
 #include "app/heap_policy.h"
 #include "app/worker_team.h"
 #include "parallel/team.h"
@@ -30,6 +31,9 @@ void set_exit_code(int code) {
 
 int main(int argc, char** argv) {
   using namespace capflow::app;
+  // A console that goes away (`| head`, a closed ssh pipe) must not end capflow: writes to it fail
+  // with EPIPE instead (app/console.h), and runs go on.
+  std::signal(SIGPIPE, SIG_IGN);
   keep_freed_heap();
   // Under an MPI launcher the ranks > 0 serve rank 0's velocity evaluations (app/worker_team.h);
   // rank 0 runs the command and ends their service on every way out of main.
@@ -68,8 +72,8 @@ int main(int argc, char** argv) {
       known = known || sub->get_name() == argv[1];
     }
     if (!known) {
-      std::cerr << "capflow: error: unknown command '" << argv[1] << "' (commands: " << names
-                << "; capflow --help)\n";
+      console::err("capflow: error: unknown command '" + std::string(argv[1]) +
+                   "' (commands: " + names + "; capflow --help)");
       return exit_code::kUserError;
     }
   }

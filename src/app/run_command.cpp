@@ -2,9 +2,9 @@
 #include "app/run_command.h"
 
 #include <csignal>
-#include <iostream>
 #include <memory>
 
+#include "app/console.h"
 #include "app/errors.h"
 #include "app/simulation.h"
 #include "app/stop_signal.h"
@@ -44,7 +44,7 @@ std::unique_ptr<Simulation> new_run(const RunArgs& a) {
     if (!issues.empty())
       throw UserError("--t-end " + std::to_string(a.t_end) + ": " + issues[0].message);
   }
-  for (const auto& w : parsed.warnings) std::cerr << "capflow: warning: " << w.str() << "\n";
+  for (const auto& w : parsed.warnings) console::err("capflow: warning: " + w.str());
   return std::make_unique<Simulation>(run);
 }
 

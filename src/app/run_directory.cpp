@@ -11,6 +11,8 @@
 #include <cstring>
 
 #include "app/errors.h"
+#include "files/atomic_write.h"
+#include "files/input_file.h"
 
 namespace capflow::app {
 
@@ -32,21 +34,6 @@ std::string errno_text() {
 
 [[noreturn]] void write_failed(const fs::path& p, const std::string& why) {
   throw OutputError("cannot write " + p.string() + ": " + why);
-}
-
-// Writes all of `data` or reports the errno of the failed write (0 when a write returned 0).
-bool write_all(int fd, const char* data, size_t n, int* err) {
-  while (n > 0) {
-    const ssize_t w = ::write(fd, data, n);
-    if (w < 0 && errno == EINTR) continue;
-    if (w <= 0) {
-      *err = w < 0 ? errno : ENOSPC;
-      return false;
-    }
-    data += w;
-    n -= static_cast<size_t>(w);
-  }
-  return true;
 }
 
 bool is_empty_but_lock(const fs::path& dir) {
@@ -74,7 +61,7 @@ void AppendFile::append(const std::string& record) {
   if (fd_ < 0) write_failed(path_, "the file is not open");
   const off_t before = ::lseek(fd_, 0, SEEK_END);
   int err = 0;
-  if (write_all(fd_, record.data(), record.size(), &err)) return;
+  if (files::write_all(fd_, record.data(), record.size(), &err)) return;
   // Cut back what part of the record reached the file: never half a row.
   if (before >= 0 && ::ftruncate(fd_, before) != 0) {
     write_failed(path_, std::string(std::strerror(err)) +
@@ -84,27 +71,95 @@ void AppendFile::append(const std::string& record) {
   write_failed(path_, std::strerror(err));
 }
 
-void AppendFile::keep_lines(long lines) {
-  const int fd = ::open(path_.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) write_failed(path_, errno_text());
-  off_t keep = 0;
-  long seen = 0;
+namespace {
+
+// A record file opened for reading under files/input_file.h's rule (a regular file; a FIFO left
+// in its place is refused at once). The caller closes it.
+int open_records_file(const fs::path& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
+    throw UserError(path.string() + " is " + files::special_kind(st.st_mode) +
+                    ": a run's record file must be a regular file");
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+  if (fd < 0) write_failed(path, errno_text());
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    ::close(fd);
+    throw UserError(path.string() + " is not a regular file: a run's record file must be one");
+  }
+  return fd;
+}
+
+// Calls f(buffer, n) for every chunk of the file.
+template <class F>
+void for_each_chunk(int fd, const fs::path& path, F&& f) {
   char buf[65536];
-  while (seen < lines) {
+  for (;;) {
     const ssize_t n = ::read(fd, buf, sizeof buf);
     if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) break;
+    if (n < 0) {
+      const std::string why = errno_text();
+      ::close(fd);
+      write_failed(path, why);
+    }
+    if (n == 0) return;
+    if (!f(buf, n)) return;
+  }
+}
+
+}  // namespace
+
+AppendFile::Lines AppendFile::count_lines(const fs::path& path) {
+  Lines out;
+  std::error_code ec;
+  if (!fs::exists(path, ec)) return out;
+  const int fd = open_records_file(path);
+  char last = '\n';
+  for_each_chunk(fd, path, [&](const char* b, ssize_t n) {
+    for (ssize_t i = 0; i < n; ++i) out.whole += b[i] == '\n';
+    last = b[n - 1];
+    return true;
+  });
+  ::close(fd);
+  out.torn = last != '\n';
+  return out;
+}
+
+void AppendFile::keep_lines(long lines, const fs::path& cut_copy) {
+  const int fd = open_records_file(path_);
+  off_t keep = 0;
+  long seen = 0;
+  for_each_chunk(fd, path_, [&](const char* b, ssize_t n) {
     for (ssize_t i = 0; i < n && seen < lines; ++i) {
       ++keep;
-      if (buf[i] == '\n') ++seen;
+      if (b[i] == '\n') ++seen;
     }
-  }
-  ::close(fd);
-  if (seen < lines)
+    return seen < lines;
+  });
+  if (seen < lines) {
+    ::close(fd);
     throw UserError(path_.string() + " has " + std::to_string(seen) +
                     " whole lines, fewer than the " + std::to_string(lines) +
                     " its checkpoint recorded: the file does not belong to "
                     "this run's checkpoints");
+  }
+  // What is cut off ends in a torn line (a write cut short by a crash or a full disk): it goes to
+  // `cut_copy` before the file is cut, so that nothing is lost unseen.
+  struct stat st {};
+  if (::fstat(fd, &st) == 0 && st.st_size > keep && !cut_copy.empty()) {
+    char last = '\n';
+    if (::pread(fd, &last, 1, st.st_size - 1) == 1 && last != '\n') {
+      std::string tail(static_cast<size_t>(st.st_size - keep), '\0');
+      const ssize_t got = ::pread(fd, tail.data(), tail.size(), keep);
+      tail.resize(got > 0 ? static_cast<size_t>(got) : 0);
+      try {
+        files::write_atomically(cut_copy.string(), tail);
+      } catch (const files::WriteError& e) {
+        ::close(fd);
+        throw OutputError(e.what());
+      }
+    }
+  }
+  ::close(fd);
   if (::truncate(path_.c_str(), keep) != 0) write_failed(path_, errno_text());
 }
 
@@ -205,20 +260,10 @@ void RunDirectory::open_records(bool fresh, const std::string& timeseries_header
 }
 
 void RunDirectory::write_text(const std::string& name, const std::string& text) const {
-  const fs::path final_path = dir_ / name, tmp = dir_ / (name + ".tmp");
-  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) write_failed(tmp, errno_text());
-  int err = 0;
-  const bool ok = write_all(fd, text.data(), text.size(), &err);
-  if (::close(fd) != 0 && ok) err = errno;
-  if (!ok || err != 0) {
-    ::unlink(tmp.c_str());
-    write_failed(final_path, std::strerror(err));
-  }
-  if (std::rename(tmp.c_str(), final_path.c_str()) != 0) {
-    const std::string why = errno_text();
-    ::unlink(tmp.c_str());
-    write_failed(final_path, why);
+  try {
+    files::write_atomically((dir_ / name).string(), text);
+  } catch (const files::WriteError& e) {
+    throw OutputError(e.what());
   }
 }
 

@@ -44,9 +44,19 @@ class AppendFile {
   void open(const std::filesystem::path& path, bool truncate);
   // Appends `record` whole, or not at all (OutputError naming the file).
   void append(const std::string& record);
-  // Keeps the first `lines` lines (a resume cuts the CSVs back to its checkpoint). OutputError
-  // on failure; UserError when the file has fewer lines (it does not belong to the checkpoint).
-  void keep_lines(long lines);
+  // Keeps the first `lines` lines (a resume cuts the CSVs back to its checkpoint). When what is
+  // cut off ends in a torn line (no newline: a write cut short by a crash), it is first saved to
+  // `cut_copy` (unless empty). OutputError on failure; UserError when the file has fewer lines
+  // (it does not belong to the checkpoint) or is not a regular file.
+  void keep_lines(long lines, const std::filesystem::path& cut_copy = {});
+
+  // The whole lines of a record file and whether a torn line follows them (0 and false for a
+  // missing file). UserError when it is not a regular file (never blocks on a FIFO).
+  struct Lines {
+    long whole = 0;
+    bool torn = false;
+  };
+  static Lines count_lines(const std::filesystem::path& path);
   const std::filesystem::path& path() const { return path_; }
 
  private:

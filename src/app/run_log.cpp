@@ -1,7 +1,8 @@
 #include "app/run_log.h"
 
 #include <ctime>
-#include <iostream>
+
+#include "app/console.h"
 
 namespace capflow::app {
 
@@ -16,9 +17,19 @@ std::string iso_now() {
 
 void RunLog::say(const std::string& line) {
   std::lock_guard<std::mutex> l(mu_);
-  if (tty_) std::cerr << "\r\033[K";
-  std::cerr << line << std::endl;
-  if (!degraded_) dir_.log().append("[" + iso_now() + "] " + line + "\n");
+  if (tty_ && !console::err_gone()) console::status("");
+  console::err(line);
+  if (degraded_) return;
+  dir_.log().append("[" + iso_now() + "] " + line + "\n");
+  note_console_gone();
+}
+
+void RunLog::note_console_gone() {
+  if (console_gone_noted_ || !console::err_gone()) return;
+  console_gone_noted_ = true;
+  dir_.log().append("[" + iso_now() + "] the console is gone (stderr: " +
+                    console::err_gone_reason() +
+                    "): the run goes on, and this log and events.jsonl are its record\n");
 }
 
 void RunLog::event(control::Record e, double t) {
@@ -31,7 +42,8 @@ void RunLog::event(control::Record e, double t) {
 void RunLog::status(const std::string& line) {
   if (!tty_) return say(line);
   std::lock_guard<std::mutex> l(mu_);
-  std::cerr << "\r\033[K" << line << std::flush;
+  console::status(line);
+  if (!degraded_) note_console_gone();
 }
 
 }  // namespace capflow::app

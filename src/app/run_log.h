@@ -1,6 +1,8 @@
 // capflow/app/run_log: what a run tells its user - log lines (stderr and run.log) and events
 // (events.jsonl, one JSON object per line with "event", "wall_time" (UTC) and "t").
 //
+// Console lines go through app/console.h (made printable; a console that is gone - a closed pipe,
+// a hung-up terminal - is noted once in run.log and the run goes on).
 // A write that fails throws OutputError (from RunDirectory's files). After that the log is
 // degraded: say() still prints to stderr, files are no longer written and nothing throws, so
 // the failure can be reported and the run closed. Safe to call from the renderer thread too.
@@ -31,8 +33,10 @@ class RunLog {
   bool tty() const { return tty_; }
 
  private:
+  void note_console_gone();  // once, in run.log, when the console went away
   RunDirectory& dir_;
   bool tty_;
+  bool console_gone_noted_ = false;
   bool degraded_ = false;
   std::mutex mu_;
 };

@@ -13,6 +13,7 @@
 #include <sstream>
 #include <thread>
 
+#include "app/console.h"
 #include "app/cpu_budget.h"
 #include "app/errors.h"
 #include "app/frames.h"
@@ -607,7 +608,7 @@ struct Simulation::Impl {
       f();
     } catch (const OutputError& e) {
       log->degrade();
-      std::cerr << "capflow: " << e.what() << "\n";
+      console::err(std::string("capflow: ") + e.what());
     }
   }
 };

@@ -20,14 +20,18 @@
 #include <thread>
 #include <vector>
 
+#include "app/console.h"
 #include "app/errors.h"
 #include "app/run_command.h"
 #include "app/run_directory.h"
 #include "app/stop_signal.h"
 #include "app/worker_team.h"
 #include "control/control_error.h"
+#include "control/limits.h"
 #include "control/run_events.h"
 #include "control/sweep.h"
+#include "files/atomic_write.h"
+#include "files/input_file.h"
 #include "parallel/team.h"
 
 extern char** environ;
@@ -74,25 +78,22 @@ CaseState state_of(const fs::path& run) {
   return s;
 }
 
+// A case control file as the sweep wrote it (files/input_file.h's rule).
 std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
+  try {
+    return files::read_input_file(p.string(), "case control file", control::kMaxControlBytes);
+  } catch (const files::InputError& e) {
+    throw UserError(e.what());
+  }
 }
 
-// Replaces p with text (temporary file and rename); OutputError naming p on failure.
+// Replaces p with text (a temporary file of this process, renamed); OutputError naming p.
 void write_atomically(const fs::path& p, const std::string& text) {
-  const fs::path tmp = p.string() + ".tmp" + std::to_string(getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out << text;
-    out.flush();
-    if (!out) throw OutputError("cannot write " + tmp.string());
+  try {
+    files::write_atomically(p.string(), text, {/*sync=*/false, /*unique_temp=*/true});
+  } catch (const files::WriteError& e) {
+    throw OutputError(e.what());
   }
-  std::error_code ec;
-  fs::rename(tmp, p, ec);
-  if (ec) throw OutputError("cannot write " + p.string() + ": " + ec.message());
 }
 
 // The case control files: written when absent, refused when they differ from the sweep's.
@@ -317,6 +318,7 @@ class ConsoleTo {
       throw OutputError("cannot send the console to " + log.string() + ": " + std::strerror(e));
     }
     ::close(fd);
+    console::reset();
   }
   ~ConsoleTo() {
     flush_all();
@@ -341,6 +343,7 @@ class ConsoleTo {
     std::cerr.clear();
     std::clearerr(stdout);
     std::clearerr(stderr);
+    console::reset();
   }
 
   int out_ = -1, err_ = -1;
@@ -389,9 +392,9 @@ int run_sweep(const SweepArgs& a) {
   write_case_files(plan);
   if (a.slurm) {
     write_slurm(plan, a.file);
-    std::cout << "sweep: " << n << " cases; submit "
-              << (fs::path(plan.dir) / "sweep.sbatch").string()
-              << " with sbatch, then run capflow sweep " << a.file << " --summary\n";
+    console::out("sweep: " + std::to_string(n) + " cases; submit " +
+                 (fs::path(plan.dir) / "sweep.sbatch").string() +
+                 " with sbatch, then run capflow sweep " + a.file + " --summary");
     return exit_code::kOk;
   }
   KnownStates known;
@@ -440,11 +443,10 @@ int run_sweep(const SweepArgs& a) {
                     after.end.D);
       line += buf;
     }
-    std::cout << line << ")\n";
+    console::out(line + ")");
     if (code == exit_code::kUserError && !after.end.found)
-      std::cout << "sweep: " << r.c->name << " did not start; see "
-                << (fs::path(plan.dir) / (r.c->name + ".log")).string() << "\n";
-    std::cout << std::flush;
+      console::out("sweep: " + r.c->name + " did not start; see " +
+                   (fs::path(plan.dir) / (r.c->name + ".log")).string());
     failed += code == exit_code::kSimulationFailed;
     output_failed += code == exit_code::kOutputFailed;
     if (a.only_case < 0) write_summary(plan, &known);
@@ -475,14 +477,13 @@ int run_sweep(const SweepArgs& a) {
     if (stop->load()) break;
     const CaseState before = state_of(fs::path(plan.dir) / c.name);
     if (before.status == Status::Done || before.status == Status::Failed) {
-      std::cout << prefix(c) << to_string(before.status) << " before, skipped\n" << std::flush;
+      console::out(prefix(c) + to_string(before.status) + " before, skipped");
       failed += before.status == Status::Failed;
       continue;
     }
     const bool resume = before.status == Status::Interrupted && before.has_checkpoint;
-    std::cout << prefix(c) << (resume ? "resuming" : "running")
-              << (groups ? " on " + std::to_string(parallel::size()) + " ranks" : "") << "\n"
-              << std::flush;
+    console::out(prefix(c) + (resume ? "resuming" : "running") +
+                 (groups ? " on " + std::to_string(parallel::size()) + " ranks" : ""));
     if (groups) {  // in this process, the group's other ranks serving it
       const Running r{0, &c, std::chrono::steady_clock::now()};
       reset_workers();
@@ -502,8 +503,8 @@ int run_sweep(const SweepArgs& a) {
   wait_until(0);
   if (a.only_case < 0) write_summary(plan, &known);
   if (stop->load())
-    std::cout << "sweep: stopped by a signal; run capflow sweep " << a.file
-              << " again to continue\n";
+    console::out("sweep: stopped by a signal; run capflow sweep " + a.file +
+                 " again to continue");
   if (output_failed) return exit_code::kOutputFailed;
   if (failed) return exit_code::kSimulationFailed;
   return exit_code::kOk;

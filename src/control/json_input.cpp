@@ -11,17 +11,13 @@
 #include <vector>
 
 #include "control/limits.h"
+#include "files/input_file.h"
 
 namespace capflow::control {
 
 using json = nlohmann::json;
 
 namespace {
-
-std::string size_text(std::size_t bytes) {
-  return bytes >= (1u << 20) ? std::to_string(bytes >> 20) + " MiB"
-                             : std::to_string(bytes) + " bytes";
-}
 
 // Builds the DOM like nlohmann's own SAX DOM parser, but knows where it is (the JSON path of the
 // value being parsed) and stops at the first violation of the rules above.
@@ -131,46 +127,17 @@ class StrictBuilder {
 }  // namespace
 
 std::string read_control_text(const std::string& path) {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-  if (fd < 0)
-    throw ControlError(path, {{"", std::string("cannot open the file: ") + std::strerror(errno)}});
-  struct stat st {};
-  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-    ::close(fd);
-    const char* what = S_ISFIFO(st.st_mode)                         ? "a FIFO"
-                       : S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode) ? "a device"
-                       : S_ISDIR(st.st_mode)                        ? "a directory"
-                       : S_ISSOCK(st.st_mode)                       ? "a socket"
-                                                                    : "not a regular file";
-    throw ControlError(
-        path, {{"", std::string("is ") + what + ": a control file must be a regular file"}});
+  try {
+    return files::read_input_file(path, "control file", kMaxControlBytes);
+  } catch (const files::InputError& e) {
+    throw ControlError(path, {{"", e.problem()}});
   }
-  std::string text;
-  char buf[65536];
-  for (;;) {
-    const ssize_t n = ::read(fd, buf, sizeof buf);
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0) {
-      const std::string err = std::strerror(errno);
-      ::close(fd);
-      throw ControlError(path, {{"", "cannot read the file: " + err}});
-    }
-    if (n == 0) break;
-    text.append(buf, static_cast<std::size_t>(n));
-    if (text.size() > kMaxControlBytes) {
-      ::close(fd);
-      throw ControlError(path, {{"", "is larger than " + size_text(kMaxControlBytes) +
-                                         ", the largest control file capflow reads"}});
-    }
-  }
-  ::close(fd);
-  return text;
 }
 
 json parse_json_strict(const std::string& text, const std::string& source) {
   if (text.size() > kMaxControlBytes)
-    throw ControlError(source, {{"", "is " + size_text(text.size()) + ", larger than " +
-                                         size_text(kMaxControlBytes) +
+    throw ControlError(source, {{"", "is " + files::size_text(text.size()) + ", larger than " +
+                                         files::size_text(kMaxControlBytes) +
                                          ", the largest control document capflow reads"}});
   StrictBuilder b;
   const bool ok = json::sax_parse(text, &b, json::input_format_t::json, /*strict=*/true);

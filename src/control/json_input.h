@@ -1,10 +1,10 @@
 // capflow/control/json_input: the gate every control document passes (internal to src/control:
 // it exposes nlohmann::json, which no other module sees).
 //
-//   read_control_text(path)   the bytes of a control file: a regular file only (symlinks are
-//                             followed; a FIFO, device or directory is refused), opened with
-//                             O_NONBLOCK so that nothing can block the caller, at most
-//                             kMaxControlBytes (one byte more is read to detect a larger file).
+//   read_control_text(path)   the bytes of a control file under files/input_file.h's rule: a
+//                             regular file only (symlinks are followed; a FIFO, device or
+//                             directory is refused without blocking), at most kMaxControlBytes
+//                             (checked before it is read).
 //   parse_json_strict(text)   RFC 8259 JSON into a DOM, refusing with the JSON path of the
 //                             problem: nesting deeper than kMaxControlDepth (checked while
 //                             parsing, before anything deep is built), a number outside the range

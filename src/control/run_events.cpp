@@ -1,13 +1,20 @@
 #include "control/run_events.h"
 
-#include <fstream>
+#include <sstream>
 #include <nlohmann/json.hpp>
+
+#include "files/input_file.h"
 
 namespace capflow::control {
 
 RunEnd last_run_end(const std::string& events_path) {
   RunEnd end;
-  std::ifstream in(events_path);
+  std::istringstream in;
+  try {
+    in.str(files::read_input_file(events_path, "event log", kMaxEventLogBytes));
+  } catch (const files::InputError&) {
+    return end;  // no readable log: no end found
+  }
   for (std::string line; std::getline(in, line);) {
     const nlohmann::json e = nlohmann::json::parse(line, nullptr, false);
     if (!e.is_object() || e.value("event", "") != "end") continue;

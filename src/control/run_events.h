@@ -1,11 +1,15 @@
 // capflow/control/run_events: what a run directory's events.jsonl says about how the run ended
 // (the "end" event that `capflow run` appends, app/simulation.cpp), for `capflow sweep`.
-// Lines that are not JSON objects (a line cut by a crash) are skipped.
+// Lines that are not JSON objects (a line cut by a crash) are skipped. The file is read under
+// files/input_file.h's rule (a regular file of at most kMaxEventLogBytes).
 #pragma once
 
+#include <cstddef>
 #include <string>
 
 namespace capflow::control {
+
+constexpr std::size_t kMaxEventLogBytes = std::size_t{256} << 20;
 
 struct RunEnd {
   bool found = false;  // an "end" event exists
@@ -15,7 +19,8 @@ struct RunEnd {
   long steps = 0;
 };
 
-// The last "end" event of the file (found = false if there is none or the file is missing).
+// The last "end" event of the file (found = false if there is none, or the file is missing or
+// is not a readable regular file within the bound).
 RunEnd last_run_end(const std::string& events_path);
 
 }  // namespace capflow::control

@@ -5,10 +5,11 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+
+#include "files/input_file.h"
 
 namespace capflow::figures {
 
@@ -34,8 +35,12 @@ std::vector<double> Table::column(const std::string& name) const {
 }
 
 Table read_csv(const std::string& path) {
-  std::ifstream f(path);
-  if (!f) throw std::runtime_error("cannot read " + path);
+  std::istringstream f;
+  try {
+    f.str(files::read_input_file(path, "CSV table", kMaxTableBytes));
+  } catch (const files::InputError& e) {
+    throw std::runtime_error(e.what());
+  }
   Table t;
   t.source = path;
   std::string line;
@@ -95,6 +100,7 @@ std::vector<ProfileRef> list_profiles(const std::string& run_dir) {
   for (const auto& e : fs::directory_iterator(d)) {
     const std::string name = e.path().filename().string();
     if (name.rfind("profile_", 0) != 0 || e.path().extension() != ".csv") continue;
+    if (out.size() >= kMaxProfiles) break;
     try {
       const Profile p = read_profile(e.path().string());
       out.push_back({p.index, p.t, e.path().string()});

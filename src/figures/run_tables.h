@@ -5,15 +5,23 @@
 //   profiles/profile_NNNNNN.csv        plane,t,a,b: plane "z" -> (a,b) = (x,y), "y" -> (x,z);
 //                                      profile NNNNNN shares its index with frame NNNNNN
 //
+// Every file is read under files/input_file.h's rule: a regular file (a FIFO or device is refused
+// without blocking) of at most kMaxTableBytes; list_profiles looks at kMaxProfiles files at most.
+//
 // Failure: read_csv/read_profile throw std::runtime_error naming the file; list_profiles leaves
 // out files it cannot read (a file being written).
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <utility>
 #include <vector>
 
 namespace capflow::figures {
+
+// The largest table read (a million rows of timeseries.csv), and the most profiles listed.
+constexpr std::size_t kMaxTableBytes = std::size_t{256} << 20;
+constexpr std::size_t kMaxProfiles = 100000;
 
 struct Table {
   std::string source;                           // the file read

@@ -4,10 +4,11 @@
 #include <algorithm>
 #include <cstdlib>
 #include <fstream>
-#include <iostream>
 #include <stdexcept>
 
 #include "figures/gnuplot.h"
+#include "files/atomic_write.h"
+#include "files/input_file.h"
 
 namespace capflow::figures {
 
@@ -20,11 +21,14 @@ std::string shell_quote(const std::string& s) {
   return o + "'";
 }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
+// The end of gnuplot's log (its own output, at most 2 KiB of it).
+std::string log_tail(const fs::path& p) {
+  try {
+    const std::string s = files::read_input_file(p.string(), "gnuplot log", std::size_t{1} << 20);
+    return s.size() > 2048 ? "..." + s.substr(s.size() - 2048) : s;
+  } catch (const files::InputError& e) {
+    return e.what();
+  }
 }
 
 // Empty blocks would shift gnuplot's `index` numbering (blank lines run together): drop them and
@@ -48,17 +52,18 @@ bool gnuplot_on_path() {
 }
 
 void write_text(const fs::path& p, const std::string& text) {
-  std::ofstream f(p, std::ios::trunc);
-  f << text;
-  f.close();  // the last buffered part written (or failed) before the check
-  if (!f) throw std::runtime_error("cannot write " + p.string());
+  files::write_atomically(p.string(), text);
 }
 
-Writer::Writer(fs::path out, std::string vector_format, bool png, bool run_gnuplot)
-    : out_(std::move(out)), vector_(std::move(vector_format)), png_(png), gnuplot_(run_gnuplot) {}
+Writer::Writer(fs::path out, std::string vector_format, bool png, bool run_gnuplot, Say say)
+    : out_(std::move(out)),
+      vector_(std::move(vector_format)),
+      say_(std::move(say)),
+      png_(png),
+      gnuplot_(run_gnuplot) {}
 
 void Writer::note(const std::string& m) {
-  std::cerr << "figure: " << m << "\n";
+  say_("figure: " + m);
   manifest_ << "- note: " << m << "\n";
 }
 
@@ -75,7 +80,7 @@ bool Writer::run_script(const Figure& f) {
   const int rc = std::system(c.c_str());
   const fs::path vec = out_ / (f.name + "." + vector_);
   if (rc != 0 || !fs::exists(vec) || fs::file_size(vec) == 0) {
-    note(f.name + ": gnuplot failed (exit " + std::to_string(rc) + "): " + slurp(log));
+    note(f.name + ": gnuplot failed (exit " + std::to_string(rc) + "): " + log_tail(log));
     ++failures_;
     return false;
   }
@@ -108,7 +113,7 @@ void Writer::emit(const Figure& fig) {
   std::string files = f.name + ".gp, " + f.name + ".dat";
   if (gnuplot_ && run_script(f))
     files += ", " + f.name + "." + vector_ + (png_ ? ", " + f.name + ".png" : "");
-  std::cerr << "figure: " << f.name << " (" << files << ")\n";
+  say_("figure: " + f.name + " (" + files + ")");
   manifest_ << "- **" << f.name << "**: " << f.caption
             << (f.paper.empty() ? "" : " (paper " + f.paper + ")") << ". Files: " << files << ".";
   if (!f.sources.empty()) {

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -19,13 +20,17 @@ bool gnuplot_on_path();
 
 class Writer {
  public:
-  // vector_format "svg" or "pdf"; png: a PNG beside it; run_gnuplot: make the images.
-  Writer(std::filesystem::path out, std::string vector_format, bool png, bool run_gnuplot);
+  using Say = std::function<void(const std::string& line)>;
+  // vector_format "svg" or "pdf"; png: a PNG beside it; run_gnuplot: make the images; say: where
+  // the progress lines and notes go (the caller's console).
+  Writer(std::filesystem::path out, std::string vector_format, bool png, bool run_gnuplot,
+         Say say);
 
   const std::filesystem::path& out() const { return out_; }
   bool runs_gnuplot() const { return gnuplot_; }
 
-  void note(const std::string& message);  // to stderr and figures.md
+  void note(const std::string& message);  // to the console and figures.md
+  void say(const std::string& line) const { say_(line); }  // to the console only
   void emit(const Figure& fig);           // skipped (with a note) when no series has data
   // A figure made elsewhere (a 3-D view): its figures.md entry, counted as written.
   void record(const std::string& name, const std::string& entry);
@@ -40,12 +45,14 @@ class Writer {
 
   std::filesystem::path out_;
   std::string vector_;
+  Say say_;
   bool png_ = true, gnuplot_ = false;
   int failures_ = 0;
   std::ostringstream manifest_;
   std::vector<std::string> written_;
 };
 
-void write_text(const std::filesystem::path& p, const std::string& text);  // throws on failure
+// Replaces p atomically (files/atomic_write.h); files::WriteError naming p on failure.
+void write_text(const std::filesystem::path& p, const std::string& text);
 
 }  // namespace capflow::figures

@@ -7,8 +7,10 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
-#include <sstream>
+
+#include "files/atomic_write.h"
+#include "files/input_file.h"
+#include "files/printable.h"
 
 namespace capflow::output {
 
@@ -93,96 +95,79 @@ void Checkpoint::write(const std::string& path) const {
   put_raw(&b, crc);
   b.append(kEnd, 8);
 
-  const std::string tmp = path + ".tmp";
-  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) throw CheckpointError("cannot write " + tmp + ": " + std::strerror(errno));
-  // A failed write removes the temporary file: no partial checkpoint is left behind.
-  auto fail = [&](const std::string& what) {
-    const std::string err = std::strerror(errno);
-    ::close(fd);
-    ::unlink(tmp.c_str());
-    throw CheckpointError("cannot write " + path + " (" + what + "): " + err);
-  };
-  size_t off = 0;
-  while (off < b.size()) {
-    const ssize_t n = ::write(fd, b.data() + off, b.size() - off);
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0) fail("write");
-    if (n == 0) {
-      errno = ENOSPC;
-      fail("write");
-    }
-    off += static_cast<size_t>(n);
-  }
-  if (::fsync(fd) != 0) fail("fsync");
-  if (::close(fd) != 0) {
-    const std::string err = std::strerror(errno);
-    ::unlink(tmp.c_str());
-    throw CheckpointError("cannot write " + path + " (close): " + err);
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    const std::string err = std::strerror(errno);
-    ::unlink(tmp.c_str());
-    throw CheckpointError("cannot rename " + tmp + " to " + path + ": " + err);
+  try {
+    files::write_atomically(path, b, {/*sync=*/true, /*unique_temp=*/false});
+  } catch (const files::WriteError& e) {
+    throw CheckpointError(e.what());
   }
 }
 
 Checkpoint Checkpoint::read(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw CheckpointError(path + ": cannot open the checkpoint");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  const std::string buf = ss.str();
-  if (buf.size() < 8 || std::memcmp(buf.data(), kMagic, 8) != 0)
-    throw CheckpointError(path + ": not a capflow checkpoint (wrong magic bytes)");
+  const std::string name = files::printable(path);
+  std::string buf;
+  try {
+    // The header first: a file that is not a checkpoint is refused without reading its body.
+    files::InputFile in(path, "checkpoint", kMaxBytes);
+    const std::string head = in.read_prefix(12);
+    if (head.size() < 8 || std::memcmp(head.data(), kMagic, 8) != 0)
+      throw CheckpointError(name + ": not a capflow checkpoint (wrong magic bytes)");
+    if (head.size() < 12 || in.size() < 8 + 4 + 4 + 4 + 8)
+      throw CheckpointError(name + ": truncated checkpoint (" + std::to_string(in.size()) +
+                            " bytes)");
+    uint32_t version;
+    std::memcpy(&version, head.data() + 8, 4);
+    if (version != kFormatVersion)
+      throw CheckpointError(name + ": checkpoint format version " + std::to_string(version) +
+                            ", this capflow reads version " + std::to_string(kFormatVersion));
+    buf = in.read_all();
+  } catch (const files::InputError& e) {
+    throw CheckpointError(e.what());
+  }
   if (buf.size() < 8 + 4 + 4 + 4 + 8)
-    throw CheckpointError(path + ": truncated checkpoint (" + std::to_string(buf.size()) + " bytes)");
-  Cursor c{buf, 8, path};
-  const uint32_t version = c.get<uint32_t>();
-  if (version != kFormatVersion)
-    throw CheckpointError(path + ": checkpoint format version " + std::to_string(version) +
-                          ", this capflow reads version " + std::to_string(kFormatVersion));
+    throw CheckpointError(name + ": truncated checkpoint (" + std::to_string(buf.size()) + " bytes)");
   if (std::memcmp(buf.data() + buf.size() - 8, kEnd, 8) != 0)
-    throw CheckpointError(path + ": truncated checkpoint (end marker missing)");
+    throw CheckpointError(name + ": truncated checkpoint (end marker missing)");
   const size_t body = buf.size() - 12;
   uint32_t stored;
   std::memcpy(&stored, buf.data() + body, 4);
   const uint32_t crc = static_cast<uint32_t>(
       crc32(0L, reinterpret_cast<const Bytef*>(buf.data()), static_cast<uInt>(body)));
-  if (crc != stored) throw CheckpointError(path + ": corrupt checkpoint (checksum mismatch)");
+  if (crc != stored) throw CheckpointError(name + ": corrupt checkpoint (checksum mismatch)");
   Checkpoint cp;
   cp.source = path;
+  Cursor c{buf, 12, name};
   const uint32_t count = c.get<uint32_t>();
   for (uint32_t r = 0; r < count; ++r) {
     const uint32_t len = c.get<uint32_t>();
     c.need(len);
-    const std::string name = buf.substr(c.pos, len);
+    const std::string field = buf.substr(c.pos, len);
+    const std::string shown = files::printable(field, 64);
     c.pos += len;
     const uint8_t type = c.get<uint8_t>();
     const uint64_t n = c.get<uint64_t>();
-    if (n > body) throw CheckpointError(path + ": malformed checkpoint record \"" + name + "\"");
+    if (n > body) throw CheckpointError(name + ": malformed checkpoint record \"" + shown + "\"");
     if (type == 1) {
       c.need(n * sizeof(double));
       std::vector<double> v(n);
       std::memcpy(v.data(), buf.data() + c.pos, n * sizeof(double));
       c.pos += n * sizeof(double);
-      cp.f64_[name] = std::move(v);
+      cp.f64_[field] = std::move(v);
     } else if (type == 2) {
       c.need(n * sizeof(int64_t));
       std::vector<int64_t> v(n);
       std::memcpy(v.data(), buf.data() + c.pos, n * sizeof(int64_t));
       c.pos += n * sizeof(int64_t);
-      cp.i64_[name] = std::move(v);
+      cp.i64_[field] = std::move(v);
     } else if (type == 3) {
       c.need(n);
-      cp.str_[name] = buf.substr(c.pos, n);
+      cp.str_[field] = buf.substr(c.pos, n);
       c.pos += n;
     } else {
-      throw CheckpointError(path + ": malformed checkpoint record \"" + name + "\" (type " +
+      throw CheckpointError(name + ": malformed checkpoint record \"" + shown + "\" (type " +
                             std::to_string(type) + ")");
     }
   }
-  if (c.pos != body) throw CheckpointError(path + ": malformed checkpoint (trailing bytes)");
+  if (c.pos != body) throw CheckpointError(name + ": malformed checkpoint (trailing bytes)");
   return cp;
 }
 

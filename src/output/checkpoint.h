@@ -9,10 +9,13 @@
 // write() writes <path>.tmp, fsyncs it and renames it over <path>: a crash never leaves a
 // half-written checkpoint under the final name, and a failed write (disk full) removes the
 // temporary file and throws CheckpointError naming the file.
-// read() refuses, with a message naming the file: a foreign file (bad magic), another format
+// read() follows files/input_file.h's rule (a regular file, at most kMaxBytes, never blocking)
+// and checks the header (magic, version) before it reads the body. It refuses, with a message
+// naming the file: a special or too large file, a foreign file (bad magic), another format
 // version, a truncated file, a checksum mismatch, or malformed records.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <map>
 #include <stdexcept>
@@ -28,6 +31,8 @@ struct CheckpointError : std::runtime_error {
 class Checkpoint {
  public:
   static constexpr uint32_t kFormatVersion = 1;
+  // The largest checkpoint read (NE=14, NB=24 writes about 1 MiB).
+  static constexpr std::size_t kMaxBytes = std::size_t{64} << 20;
 
   void put(const std::string& name, std::vector<double> v) { f64_[name] = std::move(v); }
   void put(const std::string& name, std::vector<int64_t> v) { i64_[name] = std::move(v); }

@@ -15,6 +15,10 @@
 #include <type_traits>
 #include <unordered_map>
 
+#include "files/atomic_write.h"
+#include "files/input_file.h"
+#include "files/printable.h"
+
 namespace capflow::output {
 namespace fs = std::filesystem;
 
@@ -90,20 +94,13 @@ std::string num(double v) {
   return buf;
 }
 
-// Writes `text` to <path>.tmp and renames it over <path>.
+// Writes `text` to <path>.tmp and renames it over <path> (files/atomic_write.h).
 void write_atomic(const std::string& path, const std::string& text) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    if (!f) throw std::runtime_error("vtk: cannot write " + tmp);
-    f.write(text.data(), static_cast<std::streamsize>(text.size()));
-    f.close();
-    if (!f) throw std::runtime_error("vtk: write failed for " + tmp);
+  try {
+    files::write_atomically(path, text);
+  } catch (const files::WriteError& e) {
+    throw std::runtime_error(std::string("vtk: ") + e.what());
   }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec)
-    throw std::runtime_error("vtk: cannot rename " + tmp + " to " + path + ": " + ec.message());
 }
 
 template <class T>
@@ -246,7 +243,12 @@ std::vector<double> decode_array(const Tag& t, const std::string& body, bool hea
       p = end;
     }
   } else if (format == "binary") {
-    const std::vector<unsigned char> raw = base64_decode(body);
+    std::vector<unsigned char> raw;
+    try {
+      raw = base64_decode(body);
+    } catch (const std::runtime_error& e) {
+      throw std::runtime_error("vtk: " + file + ": array " + name + ": " + e.what());
+    }
     const size_t hs = header64 ? 8 : 4;
     if (raw.size() < hs)
       throw std::runtime_error("vtk: " + file + ": array " + name + ": truncated");
@@ -258,7 +260,7 @@ std::vector<double> decode_array(const Tag& t, const std::string& body, bool hea
       std::memcpy(&b32, raw.data(), 4);
       bytes = b32;
     }
-    if (raw.size() < hs + bytes || bytes % ts)
+    if (bytes > raw.size() - hs || bytes % ts)
       throw std::runtime_error("vtk: " + file + ": array " + name + ": byte count " +
                                std::to_string(bytes) + " does not match its data");
     v.resize(bytes / ts);
@@ -460,12 +462,32 @@ void write_vtp(const std::string& path, const VtkSurface& s, VtkEncoding enc) {
   write_atomic(path, o);
 }
 
+namespace {
+
+// The first bytes of an XML file (after a UTF-8 byte order mark and white space): "<".
+bool looks_like_xml(const std::string& head) {
+  size_t i = head.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0;
+  while (i < head.size() && std::isspace(static_cast<unsigned char>(head[i]))) ++i;
+  return i < head.size() && head[i] == '<';
+}
+
+// A whole XML file read under files/input_file.h's rule, its first bytes checked first.
+std::string read_xml(const std::string& path, const char* what, std::size_t max_bytes) {
+  try {
+    files::InputFile in(path, what, max_bytes);
+    if (!looks_like_xml(in.read_prefix(256)))
+      throw std::runtime_error("vtk: " + path + ": not a " + what +
+                               " (an XML file starts with '<')");
+    return in.read_all();
+  } catch (const files::InputError& e) {
+    throw std::runtime_error(std::string("vtk: ") + e.what());
+  }
+}
+
+}  // namespace
+
 VtkSurface read_vtp(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) throw std::runtime_error("vtk: cannot read " + path);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  const std::string s = ss.str();
+  const std::string s = read_xml(path, "ParaView surface", kMaxVtpBytes);
 
   VtkSurface out;
   bool header64 = false, saw_file = false, saw_piece = false, have_points = false;
@@ -558,8 +580,11 @@ VtkSurface read_vtp(const std::string& path) {
   if (!saw_file || !saw_piece)
     throw std::runtime_error("vtk: " + path + ": not a VTK PolyData file");
   if (!have_points) throw std::runtime_error("vtk: " + path + ": no Points");
-  if (ne < 1 || n < 2 || ne != std::floor(ne) || n != std::floor(n))
-    throw std::runtime_error("vtk: " + path + ": missing or bad field arrays ne, n (element grid)");
+  if (!(ne >= 1 && n >= 2 && ne <= kMaxVtpElements && n <= kMaxVtpGrid) ||
+      ne != std::floor(ne) || n != std::floor(n))
+    throw std::runtime_error("vtk: " + path + ": missing or bad field arrays ne, n (element grid: " +
+                             "ne in [1, " + std::to_string(kMaxVtpElements) + "], n in [2, " +
+                             std::to_string(kMaxVtpGrid) + "])");
   (void)have_time;
   out.ne = static_cast<int>(ne);
   out.n = static_cast<int>(n);
@@ -636,11 +661,7 @@ void PvdCollection::write() const {
 }
 
 std::vector<PvdEntry> PvdCollection::read(const std::string& pvd_path) {
-  std::ifstream f(pvd_path, std::ios::binary);
-  if (!f) throw std::runtime_error("vtk: cannot read " + pvd_path);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  const std::string s = ss.str();
+  const std::string s = read_xml(pvd_path, "ParaView collection", kMaxPvdBytes);
   std::vector<PvdEntry> out;
   bool collection = false;
   size_t pos = 0;
@@ -711,7 +732,9 @@ std::vector<unsigned char> base64_decode(const std::string& text) {
       continue;
     }
     const int v = val(c);
-    if (v < 0) throw std::runtime_error(std::string("base64: invalid character '") + c + "'");
+    if (v < 0)
+      throw std::runtime_error("base64: invalid character '" +
+                               files::printable(std::string_view(&c, 1)) + "'");
     acc = (acc << 6) | static_cast<uint32_t>(v);
     bits += 6;
     if (bits >= 8) {

@@ -29,10 +29,14 @@
 // rewrites it atomically, so the file is valid at every moment of a run. File names in the
 // collection are relative to the .pvd's directory.
 //
-// Failure: std::runtime_error naming the file (cannot write, invalid sizes on write; missing or
-// malformed parts on read).
+// Reading follows files/input_file.h's rule: a regular file of at most kMaxVtpBytes
+// (kMaxPvdBytes), never blocking, whose first bytes must be XML before the rest is read.
+//
+// Failure: std::runtime_error naming the file (cannot write, invalid sizes on write; a special,
+// too large or foreign file, missing or malformed parts on read).
 #pragma once
 
+#include <cstddef>
 #include <map>
 #include <string>
 #include <vector>
@@ -60,6 +64,13 @@ struct VtkSurface {
 };
 
 enum class VtkEncoding { Ascii, Base64 };
+
+// What read_vtp and PvdCollection::read take: capflow writes at most about 30 MiB per surface
+// (NE=14 at 64 points per element edge, ascii) and 100 bytes per collection entry.
+constexpr std::size_t kMaxVtpBytes = std::size_t{256} << 20;
+constexpr std::size_t kMaxPvdBytes = std::size_t{64} << 20;
+constexpr int kMaxVtpElements = 1000;  // the field array "ne"
+constexpr int kMaxVtpGrid = 1000;      // the field array "n"
 
 void write_vtp(const std::string& path, const VtkSurface& s,
                VtkEncoding encoding = VtkEncoding::Base64);
