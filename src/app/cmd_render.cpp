@@ -44,8 +44,18 @@ struct RenderCmd {
   RenderFlags image;  // width 1280, height 720
 };
 
+// The semi-axes --ellipsoid takes (in units of the sphere's radius).
+constexpr double kMinSemiAxis = 0.01, kMaxSemiAxis = 100;
+
+std::string numbers(const std::vector<double>& v) {
+  std::ostringstream s;
+  for (size_t i = 0; i < v.size(); ++i) s << (i ? "," : "") << v[i];
+  return s.str();
+}
+
 std::array<double, 3> vec3(const std::vector<double>& v, const char* name) {
-  if (v.size() != 3) throw UserError(std::string("--") + name + " needs three numbers X,Y,Z");
+  if (v.size() != 3)
+    throw UserError(std::string("--") + name + " " + numbers(v) + ": needs three numbers X,Y,Z");
   return {v[0], v[1], v[2]};
 }
 
@@ -56,7 +66,13 @@ render::Snapshot analytic_shape(const RenderCmd& c) {
   if (c.shape == "sphere")
     map = geometry::ellipsoid_map(1, 1, 1);
   else if (c.shape == "ellipsoid") {
-    if (c.ellipsoid.size() != 3) throw UserError("--ellipsoid needs A,B,C");
+    if (c.ellipsoid.size() != 3)
+      throw UserError("--ellipsoid needs three semi-axes A,B,C, got " +
+                      std::to_string(c.ellipsoid.size()) + " numbers");
+    for (double a : c.ellipsoid)
+      if (!(a >= kMinSemiAxis && a <= kMaxSemiAxis))
+        throw UserError("--ellipsoid " + numbers(c.ellipsoid) + ": every semi-axis must be in [" +
+                        numbers({kMinSemiAxis}) + ", " + numbers({kMaxSemiAxis}) + "]");
     map = geometry::ellipsoid_map(c.ellipsoid[0], c.ellipsoid[1], c.ellipsoid[2]);
   } else if (c.shape == "lamellar")
     map = geometry::lamellar_map();
@@ -120,6 +136,12 @@ int run(const RenderCmd& c) {
   }
   o.camera.orthographic = c.ortho;
   o.camera.fov_deg = c.fov;
+  if (!(c.fov > 1 && c.fov < 170))
+    throw UserError("--fov " + numbers({c.fov}) + ": the field of view must be in (1, 170) degrees");
+  if (o.camera.view == View::Custom) {
+    const std::string why = custom_camera_problem(o.camera);
+    if (!why.empty()) throw UserError("--eye/--target/--up: " + why);
+  }
   Snapshot s;
   if (!c.source.empty()) {
     if (c.shape_given) throw UserError("--shape, --ellipsoid, --demo: only without a SOURCE");

@@ -1,12 +1,14 @@
 #include "app/cpu_budget.h"
 
 #include <omp.h>
+#include <pthread.h>
 #include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
 #include <cerrno>
+#include <condition_variable>
 #include <cstdlib>
 #include <mutex>
 #include <thread>
@@ -63,12 +65,60 @@ void on_cap_change(int cap) {
 }
 }  // namespace
 
-void set_solver_threads(int threads) {
+int creatable_threads(int wanted) {
+  struct Gate {
+    std::mutex mu;
+    std::condition_variable cv;
+    bool open = false;
+  } gate;
+  const auto wait = [](void* p) -> void* {
+    Gate& g = *static_cast<Gate*>(p);
+    std::unique_lock<std::mutex> l(g.mu);
+    g.cv.wait(l, [&] { return g.open; });
+    return nullptr;
+  };
+  std::vector<pthread_t> started;
+  started.reserve(static_cast<size_t>(std::max(0, wanted - 1)));
+  for (int k = 1; k < wanted; ++k) {
+    pthread_t t;
+    if (pthread_create(&t, nullptr, +wait, &gate) != 0) break;
+    started.push_back(t);
+  }
+  {
+    std::lock_guard<std::mutex> l(gate.mu);
+    gate.open = true;
+  }
+  gate.cv.notify_all();
+  for (pthread_t t : started) pthread_join(t, nullptr);
+  return static_cast<int>(started.size()) + 1;
+}
+
+int set_solver_threads(int threads, std::string* warning) {
   // 0: the OpenMP default as the process started (OMP_NUM_THREADS, else all cores), taken before
   // any call changed it
   static const int initial = std::max(1, omp_get_max_threads());
-  omp_set_num_threads(threads > 0 ? threads : initial);  // 0 also undoes an earlier run's count
-  g_solver_threads.store(threads > 0 ? threads : initial, std::memory_order_relaxed);
+  int n = threads > 0 ? threads : initial;  // 0 also undoes an earlier run's count
+  if (warning) warning->clear();
+  // A count above what already ran is tried first: libgomp cannot fall back, it ends the process
+  // when a thread does not start.
+  static int proven = 1;
+  if (n > proven) {
+    const int can = creatable_threads(n);
+    if (can < n) {
+      // Half of them: the limit was processes or memory (thread stacks), and the solver's
+      // per-thread buffers, the renderer and llvmpipe need their share of it too.
+      const int use = std::max(1, can / 2);
+      if (warning)
+        *warning = "numerics.threads " + std::to_string(n) + ": this process can start only " +
+                   std::to_string(can) + " threads (a limit on processes or memory); using " +
+                   std::to_string(use);
+      n = use;
+    }
+    proven = std::max(proven, n);
+  }
+  omp_set_num_threads(n);
+  g_solver_threads.store(n, std::memory_order_relaxed);
+  return n;
 }
 
 bool start_solver_threads() {

@@ -23,11 +23,23 @@
 // user).
 #pragma once
 
+#include <string>
+
 namespace capflow::app {
 
 // numerics.threads (at the start and on live edits): the solver's OpenMP threads when > 0
-// (0: OpenMP's default, OMP_NUM_THREADS or all cores); remembered for the cap.
-void set_solver_threads(int threads);
+// (0: OpenMP's default, OMP_NUM_THREADS or all cores); remembered for the cap. The count is
+// capped by what the process may create: libgomp ends the process when it cannot start a thread,
+// so a count above any used before is first tried with real threads (creatable_threads), and a
+// smaller one (half of what could be started: the limit is on processes or memory, which the
+// buffers and the renderer share) is used when they cannot all be made. Returns the count set; *warning (when given)
+// says why it is below the one asked for ("" when it is not).
+int set_solver_threads(int threads, std::string* warning = nullptr);
+
+// How many threads (this one included) the process can run at once, up to `wanted`: threads are
+// started with the default attributes (the stack size libgomp uses) until one cannot be, then
+// all of them end. `wanted` when every one started.
+int creatable_threads(int wanted);
 
 // Starts the solver's OpenMP threads and makes their operator buffers now, before the renderer
 // loads its GL driver: a thread's first operator call would otherwise register its buffers'

@@ -6,6 +6,7 @@
 #include "app/run_directory.h"
 #include "control/control_file.h"
 #include "control/schedule.h"
+#include "geometry/surface.h"
 #include "output/checkpoint.h"
 
 namespace capflow::app {
@@ -13,6 +14,9 @@ namespace capflow::app {
 namespace fs = std::filesystem;
 
 namespace {
+
+// Node positions beyond this many capsule radii are not a capsule's.
+constexpr double kMaxCoordinate = 1e4;
 
 std::vector<double> flat(const Eigen::Matrix3Xd& m) {
   return {m.data(), m.data() + m.size()};
@@ -52,6 +56,15 @@ RunCheckpoint decode(const output::Checkpoint& c) {
   const auto& x = c.doubles("x", 3 * n);
   s.x = Eigen::Map<const Eigen::Matrix3Xd>(x.data(), 3, n);
   if (!s.x.allFinite()) throw output::CheckpointError(p + ": the stored shape is not finite");
+  if (s.x.cwiseAbs().maxCoeff() > kMaxCoordinate)
+    throw output::CheckpointError(p + ": the stored shape reaches " +
+                                  std::to_string(s.x.cwiseAbs().maxCoeff()) +
+                                  " capsule radii from the origin (at most " +
+                                  std::to_string(kMaxCoordinate) + ")");
+  const Eigen::VectorXd jac = geometry::compute_geometry(*s.mesh, s.x).jac;
+  if (!jac.allFinite() || !(jac.minCoeff() > 0))
+    throw output::CheckpointError(
+        p + ": the stored shape is not a surface (an element of zero or non-finite area)");
   s.t = c.scalar("t");
   if (!std::isfinite(s.t) || s.t < 0)
     throw output::CheckpointError(p + ": invalid time t in the checkpoint");
@@ -154,7 +167,8 @@ RunCheckpoint read_run_checkpoint(const std::string& path) {
   }
 }
 
-RunCheckpoint read_latest_checkpoint(const fs::path& where, std::vector<std::string>* skipped) {
+RunCheckpoint read_latest_checkpoint(const fs::path& where, std::vector<std::string>* skipped,
+                                     const CheckpointFits& fits) {
   std::error_code ec;
   if (!fs::is_directory(where, ec)) {
     if (!fs::is_regular_file(where, ec))
@@ -165,12 +179,17 @@ RunCheckpoint read_latest_checkpoint(const fs::path& where, std::vector<std::str
   if (all.empty()) throw UserError(where.string() + ": no checkpoint in checkpoints/");
   std::string why;
   for (const fs::path& p : all) {
+    std::string not_this;
     try {
-      return read_run_checkpoint(p.string());
+      RunCheckpoint c = read_run_checkpoint(p.string());
+      if (fits) not_this = fits(c);
+      if (not_this.empty()) return c;
+      not_this = p.string() + ": " + not_this;
     } catch (const UserError& e) {
-      why += std::string("\n  ") + e.what();
-      if (skipped) skipped->push_back(e.what());
+      not_this = e.what();
     }
+    why += "\n  " + not_this;
+    if (skipped) skipped->push_back(not_this);
   }
   throw UserError(where.string() + ": none of its " + std::to_string(all.size()) +
                   " checkpoints can be read:" + why);

@@ -17,6 +17,7 @@
 
 #include <Eigen/Dense>
 #include <filesystem>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <string>
@@ -59,9 +60,15 @@ void write_run_checkpoint(const RunCheckpoint& state, const std::string& path);
 // a non-finite state).
 RunCheckpoint read_run_checkpoint(const std::string& path);
 
-// The newest checkpoint of a run directory that reads (or of a .ckpt file: that one). Newer
-// ones that do not read are listed in *skipped with why. UserError when none reads.
+// "" when a checkpoint that read can be used, else why not (e.g. its rows are not all in the
+// run's CSV files).
+using CheckpointFits = std::function<std::string(const RunCheckpoint&)>;
+
+// The newest checkpoint of a run directory that reads (and fits, when `fits` is given), or of a
+// .ckpt file: that one. Newer ones that do not read or fit are listed in *skipped with why.
+// UserError when none does.
 RunCheckpoint read_latest_checkpoint(const std::filesystem::path& run_dir_or_file,
-                                     std::vector<std::string>* skipped = nullptr);
+                                     std::vector<std::string>* skipped = nullptr,
+                                     const CheckpointFits& fits = nullptr);
 
 }  // namespace capflow::app

@@ -23,9 +23,11 @@ namespace {
 constexpr const char* kLockName = "run.lock";
 
 // Files and folders a run creates (what --overwrite removes; nothing else is touched).
-const char* const kRunFiles[] = {"control.json",   "control.json.tmp", "control.source",
-                                 "timeseries.csv", "steady.csv",       "events.jsonl",
-                                 "run.log",        "surface.pvd",      "preview.png"};
+const char* const kRunFiles[] = {"control.json",        "control.json.tmp", "control.source",
+                                 "control.source.tmp",  "timeseries.csv",   "steady.csv",
+                                 "events.jsonl",        "run.log",          "surface.pvd",
+                                 "surface.pvd.tmp",     "preview.png",      "preview.png.tmp",
+                                 "timeseries.csv.torn", "steady.csv.torn"};
 const char* const kRunFolders[] = {"checkpoints", "frames", "profiles", "vtk"};
 
 std::string errno_text() {
@@ -46,15 +48,34 @@ bool is_empty_but_lock(const fs::path& dir) {
 }  // namespace
 
 AppendFile::~AppendFile() {
+  close();
+}
+
+void AppendFile::close() {
   if (fd_ >= 0) ::close(fd_);
+  fd_ = -1;
 }
 
 void AppendFile::open(const fs::path& path, bool truncate) {
   if (fd_ >= 0) ::close(fd_);
   path_ = path;
-  fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC | (truncate ? O_TRUNC : 0),
+  struct stat before {};
+  if (::stat(path.c_str(), &before) == 0 && !S_ISREG(before.st_mode))
+    throw UserError(path.string() + " is " + files::special_kind(before.st_mode) +
+                    ": a run's record file must be a regular file");
+  // O_NONBLOCK: a FIFO put in a record's place after the check cannot block the open.
+  fd_ = ::open(path.c_str(),
+               O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC | O_NONBLOCK | O_NOCTTY |
+                   (truncate ? O_TRUNC : 0),
                0644);
   if (fd_ < 0) write_failed(path, errno_text());
+  struct stat st {};
+  if (::fstat(fd_, &st) != 0 || !S_ISREG(st.st_mode)) {
+    ::close(fd_);
+    fd_ = -1;
+    throw UserError(path.string() + " is " + files::special_kind(st.st_mode) +
+                    ": a run's record file must be a regular file");
+  }
 }
 
 void AppendFile::append(const std::string& record) {
@@ -202,15 +223,26 @@ std::unique_ptr<RunDirectory> RunDirectory::open(const fs::path& dir, Mode mode)
     fs::create_directories(dir, ec);
     if (ec)
       throw UserError("cannot create the run directory " + dir.string() + ": " + ec.message());
+    r->created_ = true;
   }
-  r->lock(mode);
+  try {
+    r->lock(mode);
+  } catch (...) {
+    if (r->created_) {  // nothing of this run stays behind
+      if (r->lock_fd_ >= 0) ::close(r->lock_fd_);
+      r->lock_fd_ = -1;
+      fs::remove(dir / kLockName, ec);
+      fs::remove(dir, ec);
+    }
+    throw;
+  }
   if (mode == Mode::Overwrite) r->remove_run_files();
   return r;
 }
 
 void RunDirectory::lock(Mode mode) {
   const fs::path p = dir_ / kLockName;
-  lock_fd_ = ::open(p.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  lock_fd_ = ::open(p.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NONBLOCK | O_NOCTTY, 0644);
   if (lock_fd_ < 0)
     throw UserError("cannot open the lock file " + p.string() +
                     " of the run directory: " + errno_text());
@@ -235,6 +267,21 @@ void RunDirectory::lock(Mode mode) {
   const std::string pid = std::to_string(::getpid()) + "\n";
   if (::ftruncate(lock_fd_, 0) != 0 || ::pwrite(lock_fd_, pid.data(), pid.size(), 0) < 0)
     write_failed(dir_ / kLockName, errno_text());
+}
+
+void RunDirectory::abandon() {
+  timeseries_.close();
+  steady_.close();
+  events_.close();
+  log_.close();
+  remove_run_files();
+  std::error_code ec;
+  if (lock_fd_ >= 0) {
+    fs::remove(dir_ / kLockName, ec);
+    ::close(lock_fd_);
+    lock_fd_ = -1;
+  }
+  if (created_) fs::remove(dir_, ec);  // only when empty
 }
 
 void RunDirectory::remove_run_files() const {

@@ -14,6 +14,8 @@
 //   Overwrite  as Create, but an existing capflow run is replaced: its files (the names above,
 //              nothing else) are removed after the lock is taken.
 //   Resume     an existing capflow run.
+// A new run whose start fails (before its first checkpoint) calls abandon(): what it wrote is
+// removed, and the directory too when it made it.
 // In every mode a directory whose lock another process holds is refused, naming its PID. All
 // refusals are UserError (exit 2).
 //
@@ -58,6 +60,7 @@ class AppendFile {
   };
   static Lines count_lines(const std::filesystem::path& path);
   const std::filesystem::path& path() const { return path_; }
+  void close();
 
  private:
   int fd_ = -1;
@@ -98,6 +101,11 @@ class RunDirectory {
   // Removes all but the `keep` newest checkpoints (and stale .tmp files).
   void prune_checkpoints(int keep) const;
 
+  // A start that failed before its first checkpoint: removes what this run wrote (the names
+  // above, nothing else) and the directory itself when this open created it and it is empty
+  // then, so that the same command works once the cause is gone. Never throws.
+  void abandon();
+
  private:
   RunDirectory() = default;
   void lock(Mode mode);
@@ -105,6 +113,7 @@ class RunDirectory {
 
   std::filesystem::path dir_;
   int lock_fd_ = -1;
+  bool created_ = false;  // open() made the directory
   AppendFile timeseries_, steady_, events_, log_;
 };
 

@@ -91,12 +91,12 @@ SavedState load_saved_state(const std::string& source, std::optional<double> tim
       s.note = note + " (t = " + num(s.snapshot.time) + ", nearest to " + num(*time) + ")";
       return s;
     }
-    if (!latest) throw UserError(source + ": " + note + "; and " + why_not);
+    if (!latest) throw UserError(note + "; and " + why_not);
     SavedState s = from_checkpoint(*latest);
     s.note += " (" + note + ": the newest checkpoint instead of t = " + num(*time) + ")";
     return s;
   }
-  if (!latest) throw UserError(source + ": " + why_not);
+  if (!latest) throw UserError(why_not);
   return from_checkpoint(*latest);
 }
 

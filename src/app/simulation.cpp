@@ -6,12 +6,15 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <sstream>
 #include <thread>
+#include <tuple>
 
 #include "app/console.h"
 #include "app/cpu_budget.h"
@@ -34,6 +37,8 @@
 #include "control/schedule.h"
 #include "control/watcher.h"
 #include "diagnostics/diagnostics.h"
+#include "figures/run_tables.h"
+#include "files/input_file.h"
 #include "geometry/surface.h"
 #include "membrane/membrane.h"
 #include "output/vtk.h"
@@ -104,6 +109,35 @@ void as_output(const std::string& what, F&& f) {
   }
 }
 
+// The movie of this session: the first of movie.mp4, movie.part2.mp4, ... that does not exist
+// (a session whose movie could not hold a frame left none).
+std::string movie_name(const RunDirectory& dir) {
+  std::error_code ec;
+  if (!fs::exists(dir.file("movie.mp4"), ec)) return "movie.mp4";
+  for (int k = 2;; ++k) {
+    const std::string name = "movie.part" + std::to_string(k) + ".mp4";
+    if (!fs::exists(dir.file(name), ec)) return name;
+  }
+}
+
+// A resume continues from its checkpoint: the frames and profiles written after it (index >=
+// frames) are made again, so the ones on disk go (a session that ends earlier leaves none that
+// belong to no state of the run).
+void remove_outputs_after(const RunDirectory& dir, long frames) {
+  std::error_code ec;
+  for (const auto& [sub, prefix, ext] :
+       {std::tuple<const char*, const char*, const char*>{"frames", "frame_", ".png"},
+        {"profiles", "profile_", ".csv"}}) {
+    for (const auto& e : fs::directory_iterator(dir.file(sub), ec)) {
+      const std::string n = e.path().filename().string();
+      if (n.rfind(prefix, 0) != 0 || e.path().extension() != ext) continue;
+      char* end = nullptr;
+      const long index = std::strtol(n.c_str() + std::strlen(prefix), &end, 10);
+      if (end && std::string(end) == ext && index >= frames) fs::remove(e.path(), ec);
+    }
+  }
+}
+
 }  // namespace
 
 struct Simulation::Impl {
@@ -126,6 +160,7 @@ struct Simulation::Impl {
   std::unique_ptr<output::PvdCollection> pvd;
   std::unique_ptr<OutputCadence> cadence;
   long frames = 0, rows = 0, steady_rows = 0, resumes = 0, vtk_index = 0;
+  long session_first_frame = 0;  // the frame index this session started at
   bool checkpoint_now_seen = false;
   std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
   double wall_offset = 0;  // wall seconds of earlier sessions of this run
@@ -136,6 +171,8 @@ struct Simulation::Impl {
   double pending_ca = 0;  // the Ca those outputs carry
   double pending_steady_ca = NAN;
   bool paused_logged = false;
+  bool fresh_start = false;  // a new run (not a resume): its start may be abandoned
+  std::string thread_warning;  // numerics.threads cut at the start (logged once the log exists)
 
   double wall() const {
     return wall_offset +
@@ -144,12 +181,31 @@ struct Simulation::Impl {
   double t() const { return cap->time(); }
   void say(const std::string& line) { log->say(line); }
   void event(Record e) { log->event(std::move(e), cap ? cap->time() : 0.0); }
+  void warn(const std::string& cause, const std::string& message) {
+    say("warning: " + message);
+    event(Record().set("event", "warning").set("cause", cause).set("message", message));
+  }
 
   // ---- set-up -------------------------------------------------------------------------------
 
+  // A new run that failed before its first checkpoint: the renderer stopped and what it wrote
+  // removed (RunDirectory::abandon).
+  void abandon_start() {
+    if (!fresh_start || !dir) return;
+    if (renderer) {
+      renderer->stop();
+      renderer.reset();
+    }
+    log.reset();
+    dir->abandon();
+    fresh_start = false;
+  }
+
   // The mesh and the capsule at rest (a resume or start.from sets its state afterwards).
   void build_solver() {
-    set_solver_threads(opt.numerics.threads);
+    std::string warning;
+    set_solver_threads(opt.numerics.threads, &warning);
+    if (!warning.empty()) thread_warning = warning;
     mesh = control::make_mesh(opt.mesh);
     cap = std::make_unique<capsule::Capsule>(*mesh, opt.law, opt.flow,
                                              control::dynamics_options(opt));
@@ -190,11 +246,8 @@ struct Simulation::Impl {
   }
 
   void start_renderer() {
-    renderer = app::start_renderer(
-        opt, *dir,
-        resumes == 0 ? std::string("movie.mp4")
-                     : "movie.part" + std::to_string(resumes + 1) + ".mp4",
-        opt.output.frame_every > 0, [this](const std::string& line) { say(line); });
+    renderer = app::start_renderer(opt, *dir, movie_name(*dir), opt.output.frame_every > 0,
+                                   [this](const std::string& line) { say(line); });
   }
 
   void write_effective_control() { dir->write_text("control.json", control::to_json_text(opt)); }
@@ -319,7 +372,7 @@ struct Simulation::Impl {
     s.schedule = schedule->state();
     s.health_normals = health->normals();
     s.health_flags = health->flags();
-    s.frames = frames;
+    s.frames = frames_on_disk();
     s.vtk_index = vtk_index;
     s.rows = rows;
     s.steady_rows = steady_rows;
@@ -336,7 +389,16 @@ struct Simulation::Impl {
     return s;
   }
 
+  // Frames a checkpoint counts: those whose files are written (the renderer's queue is drained
+  // first, write_checkpoint), so that a resume never leaves a gap in the frame numbers.
+  long frames_on_disk() const {
+    if (!renderer) return frames;
+    const long through = renderer->frames_written_through();
+    return through >= 0 ? through : session_first_frame;
+  }
+
   void write_checkpoint(const std::string& why) {
+    if (renderer) renderer->wait_idle();
     dir->subdirectory("checkpoints");
     const fs::path path = dir->checkpoint_path(cap->step_count());
     const RunCheckpoint state = checkpoint_state();
@@ -380,8 +442,10 @@ struct Simulation::Impl {
 
   void apply_file_edit() {
     control::ParsedControl edited;
+    std::string text;
     try {
-      edited = control::load_control_file(control_source);
+      text = control::read_control_text(control_source);
+      edited = control::parse_control(text, control_source);
     } catch (const control::ControlError& e) {
       std::vector<std::string> errs;
       for (const auto& i : e.issues()) errs.push_back(i.str());
@@ -389,6 +453,7 @@ struct Simulation::Impl {
       say("refused edit of " + control_source + " (the run keeps its settings):\n  " +
           what.substr(what.find('\n') + 1));
       event(Record().set("event", "edit").set("accepted", false).set("errors", errs));
+      apply_run_keys(control::run_keys_of(text));
       return;
     }
     control::EditResult r = control::apply_edit(opt, file_opt, edited.options);
@@ -407,7 +472,8 @@ struct Simulation::Impl {
       schedule_note = schedule->edit(opt.ca, now);
       stepper->restart();  // Ca may jump here
     }
-    set_solver_threads(opt.numerics.threads);
+    std::string thread_cut;
+    set_solver_threads(opt.numerics.threads, &thread_cut);
     cadence->edit(before, opt.output, now);
     write_effective_control();
     std::ostringstream m;
@@ -425,12 +491,27 @@ struct Simulation::Impl {
       m << " Ca " << ca_before << " -> " << schedule->ca(now) << " (" << schedule_note << ")";
     say(m.str());
     for (const auto& w : edited.warnings) say("warning: " + w.str());
+    if (!thread_cut.empty()) warn("threads", thread_cut);
     event(Record()
               .set("event", "edit")
               .set("accepted", true)
               .set("applied", applied)
               .set("refused", refused)
               .set("ca", schedule->ca(now)));
+  }
+
+  // A stop, a pause or a checkpoint request is honoured even when the rest of its edit is refused.
+  void apply_run_keys(const std::optional<control::RunOptions>& run) {
+    if (!run) return;
+    const control::RunOptions before = opt.run;
+    if (run->state == file_opt.run.state && run->checkpoint_now == file_opt.run.checkpoint_now)
+      return;  // the file's run keys did not change
+    opt.run = *run;
+    file_opt.run = *run;
+    if (opt.run.state != before.state)
+      say("run.state " + control::to_string(before.state) + " -> " +
+          control::to_string(opt.run.state) + " applied (run keys are honoured alone)");
+    write_effective_control();
   }
 
   // One step and the health check (on failure the last good state is kept). Adaptive steps
@@ -579,6 +660,7 @@ struct Simulation::Impl {
     say(m.str());
     say("Ca schedule: " + schedule->describe(t()));
     if (fresh) event(Record().set("event", "start").set_json("control", control::to_json_text(o)));
+    if (!thread_warning.empty()) warn("threads", thread_warning);
   }
 
   // A paused run: returns true while paused (logs the change once).
@@ -657,19 +739,26 @@ Simulation::Simulation(const NewRun& run) : impl_(std::make_unique<Impl>()) {
   }
   s.dir = RunDirectory::open(
       out, run.overwrite ? RunDirectory::Mode::Overwrite : RunDirectory::Mode::Create);
-  s.log = std::make_unique<RunLog>(*s.dir, isatty(STDERR_FILENO));
-  s.dir->open_records(true, kTimeseriesHeader, kSteadyHeader);
-  s.write_effective_control();
-  s.dir->write_text(
-      "control.source",
-      (run.control_source.empty() ? "" : fs::absolute(run.control_source).string()) + "\n");
-  s.build_solver();
-  if (source) s.start_from(*source);
-  s.start_monitors(initial_ca);
-  s.checkpoint_now_seen = run.options.run.checkpoint_now;
-  if (!run.control_source.empty())
-    s.watcher = std::make_unique<control::FileWatcher>(run.control_source);
-  s.start_renderer();
+  s.fresh_start = true;
+  try {
+    s.log = std::make_unique<RunLog>(*s.dir, isatty(STDERR_FILENO));
+    s.dir->open_records(true, kTimeseriesHeader, kSteadyHeader);
+    s.write_effective_control();
+    s.dir->write_text(
+        "control.source",
+        (run.control_source.empty() ? "" : fs::absolute(run.control_source).string()) + "\n");
+    s.build_solver();
+    if (source) s.start_from(*source);
+    s.start_monitors(initial_ca);
+    s.checkpoint_now_seen = run.options.run.checkpoint_now;
+    if (!run.control_source.empty())
+      s.watcher = std::make_unique<control::FileWatcher>(run.control_source);
+    s.start_renderer();
+  } catch (...) {
+    // A start that failed leaves nothing behind: the same command works once the cause is gone.
+    s.abandon_start();
+    throw;
+  }
 }
 
 std::string Simulation::latest_checkpoint(const std::string& run_dir) {
@@ -683,13 +772,24 @@ namespace {
 // header and every row, so that the rows a resume appends line up with them.
 void upgrade_timeseries(const RunDirectory& dir) {
   const fs::path path = dir.file("timeseries.csv");
-  std::ifstream in(path);
+  std::error_code ec;
+  if (!fs::exists(path, ec)) return;
+  std::string text;
+  try {
+    files::InputFile in(path.string(), "time series", figures::kMaxTableBytes);
+    const std::string head = in.read_prefix(4096);
+    const std::string header = head.substr(0, head.find('\n'));
+    const std::string before = ",steps,wall_s";
+    if (header.size() < before.size() ||
+        header.compare(header.size() - before.size(), before.size(), before) != 0)
+      return;
+    text = in.read_all();
+  } catch (const files::InputError& e) {
+    throw UserError(e.what());
+  }
+  std::istringstream in(text);
   std::string header;
-  if (!in || !std::getline(in, header)) return;
-  const std::string before = ",steps,wall_s";
-  if (header.size() < before.size() ||
-      header.compare(header.size() - before.size(), before.size(), before) != 0)
-    return;
+  std::getline(in, header);
   std::ostringstream out;
   out << header.substr(0, header.size() - 6) << "dt,wall_s\n";
   for (std::string line; std::getline(in, line);) {
@@ -700,6 +800,40 @@ void upgrade_timeseries(const RunDirectory& dir) {
   dir.write_text("timeseries.csv", out.str());
 }
 
+// The control file a resumed run watches again: control.source names it ("" when the run had
+// none, or the file named is gone).
+std::string watched_control(const RunDirectory& dir) {
+  std::string text;
+  try {
+    text = files::read_input_file(dir.file("control.source").string(), "control.source",
+                                  std::size_t{64} << 10);
+  } catch (const files::InputError&) {
+    return "";
+  }
+  const std::string line = text.substr(0, text.find('\n'));
+  std::error_code ec;
+  return !line.empty() && fs::exists(line, ec) ? line : "";
+}
+
+// A checkpoint a resume can continue from: its rows are all whole lines of the CSV files (a
+// torn last line - a crash mid-write - is cut off, and an older checkpoint taken when a recorded
+// row is torn).
+CheckpointFits rows_on_disk(const RunDirectory& dir) {
+  const AppendFile::Lines ts = AppendFile::count_lines(dir.file("timeseries.csv"));
+  const AppendFile::Lines st = AppendFile::count_lines(dir.file("steady.csv"));
+  return [ts, st](const RunCheckpoint& c) -> std::string {
+    if (c.rows + 1 > ts.whole)
+      return "it recorded " + std::to_string(c.rows) + " rows of timeseries.csv, which holds " +
+             std::to_string(std::max(0L, ts.whole - 1)) + " whole rows" +
+             (ts.torn ? " and a torn one" : "");
+    if (c.steady_rows + 1 > st.whole)
+      return "it recorded " + std::to_string(c.steady_rows) + " rows of steady.csv, which holds " +
+             std::to_string(std::max(0L, st.whole - 1)) + " whole rows" +
+             (st.torn ? " and a torn one" : "");
+    return "";
+  };
+}
+
 }  // namespace
 
 std::unique_ptr<Simulation> Simulation::resume(const std::string& run_dir,
@@ -708,7 +842,8 @@ std::unique_ptr<Simulation> Simulation::resume(const std::string& run_dir,
   Impl& s = *sim->impl_;
   s.dir = RunDirectory::open(run_dir, RunDirectory::Mode::Resume);
   std::vector<std::string> skipped;
-  const RunCheckpoint c = read_latest_checkpoint(run_dir, &skipped);
+  upgrade_timeseries(*s.dir);
+  const RunCheckpoint c = read_latest_checkpoint(run_dir, &skipped, rows_on_disk(*s.dir));
   s.opt = c.options;
   if (ov.t_end) s.opt.time.t_end = *ov.t_end;
   const std::vector<control::ControlIssue> ti = control::time_issues(s.opt.time, c.t);
@@ -722,11 +857,11 @@ std::unique_ptr<Simulation> Simulation::resume(const std::string& run_dir,
   } catch (const control::ControlError&) {
     s.file_opt = c.options;
   }
-  upgrade_timeseries(*s.dir);
+  // What a torn last line held is kept beside the file (e.g. timeseries.csv.torn).
   s.dir->timeseries().open(s.dir->file("timeseries.csv"), false);
-  s.dir->timeseries().keep_lines(c.rows + 1);
+  s.dir->timeseries().keep_lines(c.rows + 1, s.dir->file("timeseries.csv.torn"));
   s.dir->steady().open(s.dir->file("steady.csv"), false);
-  s.dir->steady().keep_lines(c.steady_rows + 1);
+  s.dir->steady().keep_lines(c.steady_rows + 1, s.dir->file("steady.csv.torn"));
   s.dir->open_records(false, kTimeseriesHeader, kSteadyHeader);
   s.log = std::make_unique<RunLog>(*s.dir, isatty(STDERR_FILENO));
   s.build_solver();
@@ -743,8 +878,9 @@ std::unique_ptr<Simulation> Simulation::resume(const std::string& run_dir,
   } catch (const std::invalid_argument& e) {
     throw UserError(c.path + ": " + e.what());
   }
-  s.frames = c.frames;
+  s.frames = s.session_first_frame = c.frames;
   s.vtk_index = c.vtk_index;
+  remove_outputs_after(*s.dir, c.frames);
   s.rows = c.rows;
   s.steady_rows = c.steady_rows;
   s.resumes = c.resumes + 1;
@@ -761,14 +897,10 @@ std::unique_ptr<Simulation> Simulation::resume(const std::string& run_dir,
       s.pvd->truncate_after(c.t);
     });
   s.write_effective_control();
-  {
-    std::ifstream src(s.dir->file("control.source"));
-    std::string line;
-    if (src && std::getline(src, line) && !line.empty() && fs::exists(line)) {
-      s.control_source = line;
-      s.watcher = std::make_unique<control::FileWatcher>(line);
-      s.check_file_now = true;
-    }
+  if (const std::string watched = watched_control(*s.dir); !watched.empty()) {
+    s.control_source = watched;
+    s.watcher = std::make_unique<control::FileWatcher>(watched);
+    s.check_file_now = true;
   }
   for (const std::string& why : skipped)
     s.say("warning: skipped a checkpoint that does not read: " + why);
@@ -804,8 +936,9 @@ RunSummary Simulation::run(const std::atomic<bool>* stop) {
       s.pending.frame = s.opt.output.frame_every > 0;
       s.pending.vtk = s.opt.output.vtk_every > 0;
       s.pending_ca = s.schedule->ca(s.t());
-      s.write_due(last.m, s.pending_ca);
+      // The checkpoint first: it records the outputs of t = 0 as due, and no frame is in flight.
       s.write_checkpoint("start");
+      s.write_due(last.m, s.pending_ca);
     } else {
       s.write_pending();
     }
@@ -885,6 +1018,16 @@ RunSummary Simulation::run(const std::atomic<bool>* stop) {
       kept = Simulation::latest_checkpoint(s.dir->path().string());
     } catch (const OutputError& e2) {
       s.best_effort([&] { s.say(std::string("final checkpoint not written: ") + e2.what()); });
+    }
+    if (kept.empty() && s.fresh_start) {
+      // No checkpoint was ever written: the start failed. Nothing is left behind.
+      console::err("capflow: the run could not start (" + std::string(e.what()) +
+                   "); removed what it had written in " + s.dir->path().string());
+      s.abandon_start();
+      sum.output_failed = true;
+      sum.failure = e.what();
+      sum.reason = "output failure";
+      return sum;
     }
     s.best_effort([&] {
       s.say(kept.empty() ? "no checkpoint to resume from"

@@ -63,30 +63,13 @@ const char* const kSteadyHeader =
     "t,ca,L,S,W,Lc,Sc,Wc,D,area,edge_curvature,tau_max,tau_min,residual,speed,volume_drift,"
     "newton,krylov,evaluations,wall_s,folds\n";
 
-// The levels of Ca the control file asks for.
+// The levels of Ca the control file asks for (control/schedule.h), from Ca = 0.
 std::vector<double> levels_of(const control::CaSchedule& s) {
-  std::vector<double> out;
-  double level = 0;
-  for (const control::CaSegment& g : s.segments) {
-    switch (g.kind) {
-      case control::CaSegment::Kind::Hold:
-        out.push_back(level = g.ca);
-        break;
-      case control::CaSegment::Kind::Steps: {
-        const double dir = g.to >= level ? 1.0 : -1.0;
-        while (std::abs(g.to - level) > 1e-12 * std::max(1.0, g.to)) {
-          level = std::abs(g.to - level) <= g.by * (1 + 1e-12) ? g.to : level + dir * g.by;
-          out.push_back(level);
-        }
-        break;
-      }
-      case control::CaSegment::Kind::Ramp:
-        throw UserError(
-            "ca: capflow steady solves at levels of Ca; a ramp has none (give a number, a list "
-            "of {\"ca\": x} levels, or {\"steps\": {\"to\": ..., \"by\": ...}})");
-    }
+  try {
+    return control::schedule_levels(s, 0.0);
+  } catch (const std::invalid_argument& e) {
+    throw UserError(e.what());
   }
-  return out;
 }
 
 std::string fixed(double v, int digits) {

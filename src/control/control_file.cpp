@@ -14,6 +14,7 @@
 
 #include "control/json_input.h"
 #include "control/limits.h"
+#include "control/schedule.h"
 #include "control/schema_table.h"
 #include "geometry/mesh.h"
 
@@ -106,6 +107,11 @@ void check_combinations(const json& doc, ControlOptions& o, std::vector<ControlI
                        "value 1 is not valid: 0 (the nodes) or 2 to 64 points per element edge"});
   const std::vector<ControlIssue> t = time_issues(o.time, 0.0);
   errors->insert(errors->end(), t.begin(), t.end());
+  // From rest the levels start at Ca = 0; after start.from at the source's Ca (checked when the
+  // source is read: CaScheduler).
+  const std::vector<ControlIssue> levels = level_count_issues(
+      o.ca, o.start.from.empty() ? std::optional<double>(0.0) : std::nullopt);
+  errors->insert(errors->end(), levels.begin(), levels.end());
 }
 
 // Legal but suspicious values.
@@ -266,6 +272,22 @@ ParsedControl parse_control(const std::string& text, const std::string& source) 
   if (!errors.empty()) throw ControlError(source, errors);
   add_warnings(doc, out.options, &out.warnings);
   return out;
+}
+
+std::optional<RunOptions> run_keys_of(const std::string& text) {
+  json doc;
+  try {
+    doc = parse_json_strict(text, "control file");
+  } catch (const ControlError&) {
+    return std::nullopt;
+  }
+  const json* run = lookup(doc, "run");
+  if (!run || !run->is_object()) return std::nullopt;
+  try {
+    return parse_control(json{{"ca", 1.0}, {"run", *run}}.dump()).options.run;
+  } catch (const ControlError&) {
+    return std::nullopt;
+  }
 }
 
 ParsedControl load_control_file(const std::string& path) {

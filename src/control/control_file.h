@@ -8,6 +8,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -27,9 +28,18 @@ struct ParsedControl {
 // control/limits.h). `source` names it in error messages. Throws ControlError listing every
 // problem.
 ParsedControl parse_control(const std::string& text, const std::string& source = "control file");
+// The bytes of a control file under files/input_file.h's rule (a regular file of at most
+// kMaxControlBytes, never blocking): ControlError naming the file when it cannot be read.
+std::string read_control_text(const std::string& path);
 // Reads the file first through control/json_input.h's gate (a regular file, at most
 // kMaxControlBytes, never blocking): ControlError if it cannot be read.
 ParsedControl load_control_file(const std::string& path);
+
+// The run.* keys (run.state, run.checkpoint_now) of a control document that is refused as a
+// whole, when it is a JSON object whose "run" object is itself valid: a stop or a pause saved in
+// a file that does not validate otherwise (a t_end too far for a new dt, say) is still honoured.
+// nullopt when there are none to read.
+std::optional<RunOptions> run_keys_of(const std::string& text);
 
 // Problems of t_end for a run at time t_now (0 for a new run): t_end at least half a step past
 // t_now (fresh runs: at least dt), and at most kMaxSteps steps to go. Paths are "time.t_end".

@@ -38,11 +38,63 @@ std::string held(const CaSegment& s) {
 }
 
 // Levels still to come in a Steps segment from `level` (not counting it).
-int levels_left(const CaSegment& s, double level) {
-  if (level == s.to) return 0;
-  return static_cast<int>(std::ceil(std::abs(s.to - level) / s.by - 1e-12));
+double levels_left(const CaSegment& s, double level) {
+  return steps_levels(s, level);
 }
 }  // namespace
+
+double steps_levels(const CaSegment& s, double from) {
+  if (from == s.to) return 0;
+  return std::ceil(std::abs(s.to - from) / s.by - 1e-12);
+}
+
+std::vector<ControlIssue> level_count_issues(const CaSchedule& sched,
+                                             std::optional<double> start) {
+  std::vector<ControlIssue> out;
+  std::optional<double> level = start;
+  for (size_t i = 0; i < sched.segments.size(); ++i) {
+    const CaSegment& s = sched.segments[i];
+    if (s.kind == CaSegment::Kind::Steps && level) {
+      const double n = steps_levels(s, *level);
+      if (n > kMaxStepsLevels) {
+        std::ostringstream m;
+        m << "value " << s.by << " makes " << n << " levels from Ca = " << *level << " to "
+          << s.to << ": a steps segment holds at most " << kMaxStepsLevels
+          << " levels (raise by)";
+        out.push_back({"ca[" + std::to_string(i) + "].steps.by", m.str()});
+      }
+    }
+    level = s.kind == CaSegment::Kind::Hold ? s.ca : s.to;
+  }
+  return out;
+}
+
+std::vector<double> schedule_levels(const CaSchedule& sched, double start) {
+  const std::vector<ControlIssue> issues = level_count_issues(sched, start);
+  if (!issues.empty()) throw std::invalid_argument(issues[0].str());
+  std::vector<double> out;
+  double level = start;
+  for (const CaSegment& g : sched.segments) {
+    switch (g.kind) {
+      case CaSegment::Kind::Hold:
+        out.push_back(level = g.ca);
+        break;
+      case CaSegment::Kind::Steps: {
+        const double dir = g.to >= level ? 1.0 : -1.0;
+        while (std::abs(g.to - level) > 1e-12 * std::max(1.0, g.to)) {
+          level = std::abs(g.to - level) <= g.by * (1 + 1e-12) ? g.to : level + dir * g.by;
+          out.push_back(level);
+        }
+        break;
+      }
+      case CaSegment::Kind::Ramp:
+        throw std::invalid_argument(
+            "ca: capflow steady solves at levels of Ca; a ramp has none (give a number, a list "
+            "of {\"ca\": x} levels, or {\"steps\": {\"to\": ..., \"by\": ...}})");
+    }
+  }
+  return out;
+}
 
 const char* const kContinuationRefused =
     "ca: a continuation follows a branch of steady states, which capflow steady solves for; "
@@ -59,6 +111,8 @@ CaScheduler::CaScheduler(const CaSchedule& schedule, const SteadyOptions& steady
         "rest has none (the ramp would start at Ca = 0, where the flow is singular): put a "
         "{\"ca\": x} segment first, or start from another run (start.from)");
   level_ = initial_ca.value_or(0.0);
+  const std::vector<ControlIssue> too_many = level_count_issues(schedule_, level_);
+  if (!too_many.empty()) throw std::invalid_argument(too_many[0].str());
   start_segment(0, t0);
 }
 
@@ -143,7 +197,8 @@ std::string CaScheduler::describe(double t) const {
     }
     case CaSegment::Kind::Steps:
       m << "Ca = " << level_ << ", step " << step_index_ << " of "
-        << step_index_ + levels_left(s, level_) << " towards " << s.to << ", " << held(s);
+        << step_index_ + static_cast<long>(levels_left(s, level_)) << " towards " << s.to << ", "
+        << held(s);
       break;
   }
   return m.str();

@@ -34,12 +34,31 @@
 #include <string>
 #include <vector>
 
+#include "control/control_error.h"
 #include "control/options.h"
 
 namespace capflow::control {
 
 // Why a continuation (CaSchedule::continuation) is refused by the scheduler (capflow run).
 extern const char* const kContinuationRefused;
+
+// The most levels one steps segment may hold (ceil(|to - from| / by)): a schedule is a plan a
+// person can follow, and capflow steady solves at every level.
+constexpr double kMaxStepsLevels = 1e5;
+
+// Levels a Steps segment holds from the level `from` (not counting it), as a double (no
+// overflow for any by).
+double steps_levels(const CaSegment& s, double from);
+
+// Steps segments of more than kMaxStepsLevels levels, as issues at "ca[i].steps.by", each level
+// followed from `start` (the Ca before the first segment; nullopt when it is not known yet, as
+// with start.from before the source is read: the segments before the first Hold are not checked).
+std::vector<ControlIssue> level_count_issues(const CaSchedule& s, std::optional<double> start);
+
+// The Ca levels a schedule holds, in order, from `start` (0 from rest): capflow steady's levels.
+// std::invalid_argument for a ramp (it has no levels) or a steps segment of more than
+// kMaxStepsLevels levels.
+std::vector<double> schedule_levels(const CaSchedule& s, double start = 0);
 
 class CaScheduler {
  public:

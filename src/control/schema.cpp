@@ -192,7 +192,7 @@ Field text(const std::string& path, Ref ref, bool allow_empty, size_t max_bytes,
   };
   f.write = [=](const ControlOptions& o) -> std::optional<json> {
     const std::string& s = ref(const_cast<Refs>(o));
-    if (s.empty() && allow_empty) return std::nullopt;
+    if (s.empty()) return std::nullopt;  // "" is the default of the fields that may be absent
     return json(s);
   };
   f.copy = [=](ControlOptions& d, const ControlOptions& s) { ref(d) = ref(const_cast<Refs>(s)); };
@@ -506,7 +506,7 @@ std::vector<Field> build_fields() {
   // start
   {
     Field f = text(
-        "start.from", [](O& o) -> std::string& { return o.start.from; }, true, 4096,
+        "start.from", [](O& o) -> std::string& { return o.start.from; }, false, 4096,
         "a run directory or checkpoint file to start from", "a run directory or a .ckpt file",
         kFrozen,
         "start from that run's newest checkpoint, resampled onto this mesh; time "
@@ -518,8 +518,12 @@ std::vector<Field> build_fields() {
     Field f = boolean(
         "start.restore_volume", [](O& o) -> bool& { return o.start.restore_volume; }, kFrozen,
         "scale the resampled shape to the sphere's volume");
-    const auto write = f.write;  // without start.from it means nothing: left out
-    f.write = [write](const O& o) { return o.start.from.empty() ? std::nullopt : write(o); };
+    // Without start.from it means nothing: left out at its default, but written when set (so
+    // that a live edit of it is seen, and refused like any frozen key).
+    const auto write = f.write;
+    f.write = [write](const O& o) {
+      return o.start.from.empty() && o.start.restore_volume ? std::nullopt : write(o);
+    };
     f.info.default_value = "true";
     t.push_back(f);
   }
@@ -639,10 +643,10 @@ std::vector<Field> build_fields() {
       "(0: the nodes)"));
   // render
   t.push_back(integer(
-      "render.width", [](O& o) -> int& { return o.render.width; }, 16, 7680,
+      "render.width", [](O& o) -> int& { return o.render.width; }, 16, render::kMaxWidth,
       "the frame width in pixels", "px", kFrozen, "frame width (even)"));
   t.push_back(integer(
-      "render.height", [](O& o) -> int& { return o.render.height; }, 16, 4320,
+      "render.height", [](O& o) -> int& { return o.render.height; }, 16, render::kMaxHeight,
       "the frame height in pixels", "px", kFrozen, "frame height (even)"));
   t.push_back(choice(
       "render.view",
@@ -665,7 +669,9 @@ std::vector<Field> build_fields() {
       {"viridis", "coolwarm"}, kFrozen, "colour map (coolwarm: symmetric range)"));
   t.push_back(custom(
       {"render.range", "\"auto\", \"frame\" or [min, max]",
-       "\"auto\" | \"frame\" | [min, max] with min < max", "\"auto\"", "Gs", kFrozen,
+       "\"auto\" | \"frame\" | [min, max] with min < max, both within +-1e12, max - min at "
+       "least 1e-12 and 1e-9 of the larger bound",
+       "\"auto\"", "Gs", kFrozen,
        "colour range: \"auto\" holds every value drawn so far and only grows (one colour, one "
        "tension over a movie), \"frame\" each frame's own, [min, max] fixed (beyond it marked "
        "on the bar)"},
@@ -675,8 +681,13 @@ std::vector<Field> build_fields() {
           ro.range_mode = render::RangeMode::Grow;
         } else if (v.is_string() && v.get<std::string>() == "frame") {
           ro.range_mode = render::RangeMode::Frame;
-        } else if (v.is_array() && v.size() == 2 && v[0].is_number() && v[1].is_number() &&
-                   v[0].get<double>() < v[1].get<double>()) {
+        } else if (v.is_array() && v.size() == 2 && v[0].is_number() && v[1].is_number()) {
+          const std::string why =
+              render::fixed_range_problem(v[0].get<double>(), v[1].get<double>());
+          if (!why.empty()) {
+            add_error(c, "render.range", "value " + show(v) + " is not valid: " + why);
+            return;
+          }
           ro.range_mode = render::RangeMode::Fixed;
           ro.range_min = v[0].get<double>();
           ro.range_max = v[1].get<double>();

@@ -95,9 +95,15 @@ std::vector<json> values_of(const std::string& path, const json& v,
   std::vector<json> out;
   for (long i = 0; i < count; ++i) {
     const double f = static_cast<double>(i) / static_cast<double>(count - 1);
-    double x = scale == "log" ? std::exp(std::log(from) + f * (std::log(to) - std::log(from)))
-                              : from + f * (to - from);
+    // (1 - f) from + f to: no overflow between finite ends (-1e308 to 1e308)
+    double x = scale == "log" ? std::exp((1 - f) * std::log(from) + f * std::log(to))
+                              : (1 - f) * from + f * to;
+    if (i == 0) x = from;
     if (i == count - 1) x = to;
+    if (!std::isfinite(x)) {
+      issues->push_back({path, "value " + std::to_string(i) + " of the range is not finite"});
+      return {};
+    }
     // 12 significant digits: 0.1 + 2 x 0.1 is written 0.3
     char buf[32];
     std::snprintf(buf, sizeof buf, "%.12g", x);

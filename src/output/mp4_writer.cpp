@@ -1,5 +1,8 @@
 #include "output/mp4_writer.h"
 
+#include <unistd.h>
+
+#include <cstdio>
 #include <stdexcept>
 
 extern "C" {
@@ -32,6 +35,9 @@ struct Mp4Writer::Impl {
   AVPacket* pkt = nullptr;
   bool open = false;
   int since_flush = 0;
+  int64_t whole = 0;   // bytes of the file that end with a whole fragment (or the header)
+  long in_file = 0;    // frames in those bytes
+  bool failed = false;
 
   void drain(bool final_) {
     for (;;) {
@@ -45,6 +51,24 @@ struct Mp4Writer::Impl {
       av_packet_unref(pkt);
       (void)final_;
     }
+  }
+  // Everything written so far reached the file (no error recorded by the I/O context): it ends
+  // with a whole fragment now.
+  void mark_whole(long frames) {
+    if (!fmt || !fmt->pb) return;
+    if (fmt->pb->error < 0) check(fmt->pb->error, ("write " + path).c_str());
+    whole = avio_tell(fmt->pb);
+    in_file = frames;
+  }
+  // After a failed write: the file cut back to its last whole fragment (a movie that holds no
+  // frame at all is removed), so that it stays playable.
+  void cut_back() {
+    failed = true;
+    release();
+    if (in_file == 0)
+      std::remove(path.c_str());
+    else
+      (void)::truncate(path.c_str(), whole);
   }
   void release() {
     av_frame_free(&frame);
@@ -98,6 +122,7 @@ Mp4Writer::Mp4Writer(const std::string& path, const Mp4Options& o) : impl_(new I
     av_dict_free(&mux);
     check(r, "write header");
     avio_flush(m.fmt->pb);
+    m.mark_whole(0);
     m.frame = av_frame_alloc();
     m.frame->format = AV_PIX_FMT_YUV420P;
     m.frame->width = o.width;
@@ -106,7 +131,7 @@ Mp4Writer::Mp4Writer(const std::string& path, const Mp4Options& o) : impl_(new I
     m.pkt = av_packet_alloc();
     m.open = true;
   } catch (...) {
-    m.release();
+    m.cut_back();  // a movie that could not start is removed
     throw;
   }
 }
@@ -130,8 +155,14 @@ void Mp4Writer::add_frame(const uint8_t* rgba, int stride) {
                          m.frame->data[2], m.frame->linesize[2], m.opt.width, m.opt.height) != 0)
     throw std::runtime_error("mp4: RGBA -> yuv420p conversion failed");
   m.frame->pts = frames_;
-  check(avcodec_send_frame(m.enc, m.frame), "avcodec_send_frame");
-  m.drain(false);
+  try {
+    check(avcodec_send_frame(m.enc, m.frame), "avcodec_send_frame");
+    m.drain(false);
+  } catch (...) {
+    m.open = false;
+    m.cut_back();
+    throw;
+  }
   ++frames_;
   if (++m.since_flush >= m.opt.flush_every) flush();
 }
@@ -139,8 +170,15 @@ void Mp4Writer::add_frame(const uint8_t* rgba, int stride) {
 void Mp4Writer::flush() {
   Impl& m = *impl_;
   if (!m.open || m.since_flush == 0) return;
-  check(av_write_frame(m.fmt, nullptr), "flush fragment");  // frag_custom: cut a fragment
-  avio_flush(m.fmt->pb);
+  try {
+    check(av_write_frame(m.fmt, nullptr), "flush fragment");  // frag_custom: cut a fragment
+    avio_flush(m.fmt->pb);
+    m.mark_whole(frames_);
+  } catch (...) {
+    m.open = false;
+    m.cut_back();
+    throw;
+  }
   m.since_flush = 0;
 }
 
@@ -152,11 +190,18 @@ void Mp4Writer::finish() {
     check(avcodec_send_frame(m.enc, nullptr), "flush encoder");
     m.drain(true);
     check(av_write_trailer(m.fmt), "write trailer");
+    avio_flush(m.fmt->pb);
+    m.mark_whole(frames_);
   } catch (...) {
-    m.release();
+    m.cut_back();
     throw;
   }
   m.release();
+  if (frames_ == 0) std::remove(m.path.c_str());  // a movie without a frame is no movie
+}
+
+long Mp4Writer::frames_in_file() const {
+  return impl_->in_file;
 }
 
 }  // namespace capflow::output

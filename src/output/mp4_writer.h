@@ -10,7 +10,12 @@
 // path (see render/render_thread.h).
 // Timing: frame k has pts k in time base 1/fps and duration 1 (x264 leaves 0, which makes
 // ffprobe under-report the duration), so duration = frames / fps.
-// Failure: std::runtime_error with the FFmpeg error text; odd sizes -> std::invalid_argument.
+// Failures: a write that fails (disk full, read-only, a file-size limit; seen in the I/O
+// context's error after every fragment, not only in the return codes) throws, and the file is cut
+// back to its last whole fragment first, so it stays playable with every frame of the fragments
+// before; a movie that holds no frame then (or at finish()) is removed. After a failure the
+// writer is closed.
+// Errors: std::runtime_error with the FFmpeg error text; odd sizes -> std::invalid_argument.
 #pragma once
 
 #include <cstdint>
@@ -42,6 +47,7 @@ class Mp4Writer {
   void flush();   // writes the pending fragment to disk now
   void finish();  // drains the encoder, writes the trailer, closes the file; idempotent
   long frames() const { return frames_; }
+  long frames_in_file() const;  // frames in the file's whole fragments
 
  private:
   struct Impl;

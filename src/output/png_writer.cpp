@@ -1,5 +1,7 @@
 #include "output/png_writer.h"
 
+#include "files/atomic_write.h"
+
 #include <spng.h>
 
 #include <cstdio>
@@ -73,21 +75,11 @@ void write_png(const std::string& path, int width, int height, const uint8_t* rg
   }
   size_t length = 0;
   const auto png = encode(width, height, channels, packed.data(), &length, path);
-  std::FILE* f = std::fopen(path.c_str(), "wb");
-  if (!f) throw std::runtime_error("cannot write PNG " + path);
-  const bool ok = std::fwrite(png.get(), 1, length, f) == length;
-  if (std::fclose(f) != 0 || !ok) {
-    std::remove(path.c_str());
-    throw std::runtime_error("cannot write PNG " + path);
+  try {
+    files::write_atomically(path, std::string_view(reinterpret_cast<const char*>(png.get()), length));
+  } catch (const files::WriteError& e) {
+    throw std::runtime_error(std::string("PNG: ") + e.what());
   }
-}
-
-void write_png_atomic(const std::string& path, int width, int height, const uint8_t* rgba,
-                      int stride) {
-  const std::string tmp = path + ".tmp";
-  write_png(tmp, width, height, rgba, stride);
-  if (std::rename(tmp.c_str(), path.c_str()) != 0)
-    throw std::runtime_error("cannot rename " + tmp + " to " + path);
 }
 
 }  // namespace capflow::output

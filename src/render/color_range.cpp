@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 namespace capflow::render {
 
@@ -14,25 +15,55 @@ double tick_step(double span, int target) {
   return 10.0 * p;
 }
 
+std::string fixed_range_problem(double lo, double hi) {
+  std::ostringstream m;
+  m << "[" << lo << ", " << hi << "]";
+  const std::string shown = m.str();
+  if (!std::isfinite(lo) || !std::isfinite(hi) || std::abs(lo) > kMaxFixedRange ||
+      std::abs(hi) > kMaxFixedRange) {
+    std::ostringstream w;
+    w << shown << ": min and max must be finite and within +-" << kMaxFixedRange << " (Gs)";
+    return w.str();
+  }
+  if (!(hi > lo)) return shown + ": max must exceed min";
+  const double least = std::max(1e-12, 1e-9 * std::max(std::abs(lo), std::abs(hi)));
+  if (hi - lo < least) {
+    std::ostringstream w;
+    w << shown << ": the width " << hi - lo << " is below " << least
+      << " (1e-12, and 1e-9 of the larger bound): too narrow to tell colours apart";
+    return w.str();
+  }
+  return "";
+}
+
 std::vector<double> round_ticks(double lo, double hi, int target) {
   std::vector<double> t;
   if (!std::isfinite(lo) || !std::isfinite(hi)) return t;  // no ticks for a non-finite range
   if (!(hi > lo)) return {lo};
-  double step = tick_step(hi - lo, target);
-  for (;;) {
+  const double span = hi - lo;
+  if (!std::isfinite(span)) return {lo, hi};
+  double step = tick_step(span, target);
+  // A few refinements at most: a narrow range between two ticks gets a finer step.
+  for (int attempt = 0; attempt < 8 && std::isfinite(step) && step > 0; ++attempt) {
+    const double slack = 1e-9 * span;
+    const double k0 = std::ceil((lo - slack) / step), k1 = std::floor((hi + slack) / step);
+    // The ticks are k * step for the integers k in [k0, k1]; beyond 1e15 a double no longer
+    // counts them one by one (1e16 + 1 == 1e16), and more than 1000 is not a colour bar.
+    if (!(std::abs(k0) < 1e15 && std::abs(k1) < 1e15 && k1 - k0 <= 1000)) break;
     t.clear();
-    const double slack = 1e-9 * (hi - lo);
-    for (double k = std::ceil((lo - slack) / step); k * step <= hi + slack; k += 1.0)
+    for (double k = k0; k <= k1; k += 1.0)
       t.push_back(std::abs(k * step) < 1e-9 * step ? 0.0 : k * step);
     if (t.size() >= 2) return t;
-    step = tick_step(step, 3) / 2;  // a narrow range between two ticks: a finer step
+    step = tick_step(step, 3) / 2;
   }
+  return {lo, hi};
 }
 
 namespace {
 
 // [lo, hi] rounded outwards to multiples of the tick step of its span; degenerate spans widened.
 void round_out(double* lo, double* hi) {
+  if (!std::isfinite(*hi - *lo)) return;  // (finite data of an overflowing span: kept as is)
   if (!(*hi - *lo > 1e-12 * std::max(1.0, std::max(std::abs(*lo), std::abs(*hi))))) {
     const double c = 0.5 * (*lo + *hi), d = 0.5 * std::max(std::abs(c), 1.0);
     *lo = c - d;

@@ -14,15 +14,25 @@
 // rounded out like any other. A frame with non-finite values leaves the range as it was.
 #pragma once
 
+#include <string>
 #include <vector>
 
 namespace capflow::render {
 
 enum class RangeMode { Grow, Frame, Fixed };
 
+// A fixed range's bounds: both finite and within +-kMaxFixedRange, and hi - lo at least
+// max(1e-12, 1e-9 max(|lo|, |hi|)), a width that double precision resolves into distinct ticks
+// and colours. "" when [lo, hi] is valid, else what is wrong (e.g. "the width 2 of [1e+16,
+// 1e+16] is below ...").
+constexpr double kMaxFixedRange = 1e12;
+std::string fixed_range_problem(double lo, double hi);
+
 // The multiples of a 1-2-5 step (1, 2, 5 times a power of ten) in [lo, hi] (with 1e-9 of the
 // span of slack at the ends), the step chosen so that there are about `target` of them (at
-// least 2 for hi > lo).
+// least 2 for hi > lo). Always ends, for any input: a non-finite bound gives no ticks, and a
+// range whose multiples double precision cannot count (a span of 2 at 1e16, an infinite span)
+// gives its two ends.
 std::vector<double> round_ticks(double lo, double hi, int target = 5);
 
 // The smallest 1-2-5 step of at least span / target (target + 1 ticks or fewer).

@@ -1,20 +1,56 @@
 #include "render/options.h"
 
+#include <cmath>
+#include <sstream>
+
 namespace capflow::render {
+
+std::string custom_camera_problem(const CameraOptions& c) {
+  const auto finite = [](const std::array<double, 3>& v) {
+    return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]) &&
+           std::abs(v[0]) <= 1e6 && std::abs(v[1]) <= 1e6 && std::abs(v[2]) <= 1e6;
+  };
+  const auto show = [](const std::array<double, 3>& v) {
+    std::ostringstream s;
+    s << v[0] << "," << v[1] << "," << v[2];
+    return s.str();
+  };
+  if (!finite(c.eye)) return "eye " + show(c.eye) + ": three finite numbers within +-1e6";
+  if (!finite(c.target)) return "target " + show(c.target) + ": three finite numbers within +-1e6";
+  if (!finite(c.up)) return "up " + show(c.up) + ": three finite numbers within +-1e6";
+  const double d[3] = {c.eye[0] - c.target[0], c.eye[1] - c.target[1], c.eye[2] - c.target[2]};
+  const double dist = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+  if (!(dist > 1e-6)) return "eye " + show(c.eye) + " is at the target: they must differ";
+  const double up = std::sqrt(c.up[0] * c.up[0] + c.up[1] * c.up[1] + c.up[2] * c.up[2]);
+  const double cr[3] = {d[1] * c.up[2] - d[2] * c.up[1], d[2] * c.up[0] - d[0] * c.up[2],
+                        d[0] * c.up[1] - d[1] * c.up[0]};
+  const double sin = std::sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]) / (dist * up);
+  if (!(up > 0) || !(sin > 1e-6))
+    return "up " + show(c.up) + " is zero or along the line of sight: give a direction across it";
+  return "";
+}
 
 bool RenderOptions::IsValid(std::string* error) const {
   auto fail = [&](const std::string& m) {
     if (error) *error = m;
     return false;
   };
-  if (width < 16 || height < 16 || width > 8192 || height > 8192)
-    return fail("width and height must be in [16, 8192]");
+  if (width < 16 || height < 16 || width > kMaxWidth || height > kMaxHeight)
+    return fail("width must be in [16, " + std::to_string(kMaxWidth) + "] and height in [16, " +
+                std::to_string(kMaxHeight) + "]");
   if (mp4 && (width % 2 || height % 2)) return fail("width and height must be even for MP4");
   if (msaa < 0 || msaa > 16) return fail("msaa must be in [0, 16]");
   if (subdivisions < 2 || subdivisions > 200) return fail("subdivisions must be in [2, 200]");
-  if (range_mode == RangeMode::Fixed && !(range_max > range_min))
-    return fail("range: max must exceed min");
-  if (camera.fov_deg <= 1 || camera.fov_deg >= 170) return fail("fov must be in (1, 170) deg");
+  if (range_mode == RangeMode::Fixed) {
+    const std::string r = fixed_range_problem(range_min, range_max);
+    if (!r.empty()) return fail("range " + r);
+  }
+  if (!(camera.fov_deg > 1 && camera.fov_deg < 170)) return fail("fov must be in (1, 170) deg");
+  if (!(camera.margin > 0 && camera.margin < 100)) return fail("margin must be in (0, 100)");
+  if (camera.view == View::Custom) {
+    const std::string c = custom_camera_problem(camera);
+    if (!c.empty()) return fail(c);
+  }
   if (fps < 1 || fps > 240) return fail("fps must be in [1, 240]");
   if (crf < 0 || crf > 51) return fail("crf (quality) must be in [0, 51]");
   if (flush_every < 1) return fail("flush_every must be >= 1");

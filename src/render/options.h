@@ -35,6 +35,13 @@ struct CameraOptions {
   double margin = 1.12;  // named views: frame the bounding box with this much room
 };
 
+// The largest image (8K UHD): the control file's render.width / height and the command line's.
+constexpr int kMaxWidth = 7680, kMaxHeight = 4320;
+
+// "" when a custom camera can be drawn from: eye, target and up finite (within +-1e6), the eye
+// away from the target, up across the line of sight; else what is wrong, naming the value.
+std::string custom_camera_problem(const CameraOptions& c);
+
 struct RenderOptions {
   int width = 1280;  // image width in pixels (even; MP4 needs even sizes)
   int height = 720;  // image height in pixels (even)

@@ -52,6 +52,7 @@ void RenderThread::launch(const RenderOptions& options, LogFn log,
   on_busy_ = std::move(on_busy);
   error_.clear();
   stats_ = RenderStats{};
+  written_through_.store(-1, std::memory_order_relaxed);
   busy_reported_ = false;
   queue_ = std::make_unique<SnapshotQueue>(static_cast<size_t>(opt_.queue_capacity));
   std::promise<void> ready;
@@ -79,7 +80,20 @@ void RenderThread::frame_done() {
   int n = frames_in_flight_.load(std::memory_order_relaxed);
   while (n > 0 && !frames_in_flight_.compare_exchange_weak(n, n - 1, std::memory_order_relaxed)) {
   }
-  if (n == 1) report_busy();
+  if (n == 1) {
+    report_busy();
+    std::lock_guard<std::mutex> l(idle_mu_);
+    idle_cv_.notify_all();
+  }
+}
+
+void RenderThread::wait_idle() {
+  std::unique_lock<std::mutex> l(idle_mu_);
+  idle_cv_.wait(l, [&] { return frames_in_flight_.load(std::memory_order_relaxed) == 0; });
+}
+
+long RenderThread::frames_written_through() const {
+  return written_through_.load(std::memory_order_relaxed);
 }
 
 void RenderThread::report_busy() {
@@ -143,7 +157,7 @@ void RenderThread::serve(Renderer& renderer, output::Mp4Writer* mp4) {
       renderer.render(item->snapshot, &img, &t);
       if (item->lane == SnapshotQueue::Lane::Preview) {
         if (opt_.preview)
-          output::write_png_atomic(opt_.preview_path, img.width, img.height, img.rgba.data());
+          output::write_png(opt_.preview_path, img.width, img.height, img.rgba.data());
         std::lock_guard<std::mutex> l(mu_);
         ++stats_.previews;
         continue;
@@ -163,7 +177,8 @@ void RenderThread::serve(Renderer& renderer, output::Mp4Writer* mp4) {
         enc_ms = ms_since(t0);
       }
       if (opt_.preview)
-        output::write_png_atomic(opt_.preview_path, img.width, img.height, img.rgba.data());
+        output::write_png(opt_.preview_path, img.width, img.height, img.rgba.data());
+      written_through_.store(item->snapshot.frame + 1, std::memory_order_relaxed);
       frame_done();
       std::lock_guard<std::mutex> l(mu_);
       ++stats_.movie_frames;
@@ -192,6 +207,8 @@ void RenderThread::fail(const std::string& msg) {
   if (log_) log_("render: error: " + msg);
   queue_->close();  // producers stop blocking and see false
   if (frames_in_flight_.exchange(0) > 0) report_busy();
+  std::lock_guard<std::mutex> l(idle_mu_);
+  idle_cv_.notify_all();
 }
 
 bool RenderThread::submit_frame(Snapshot s) {

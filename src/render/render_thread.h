@@ -25,6 +25,7 @@
 #pragma once
 
 #include <atomic>
+#include <condition_variable>
 #include <functional>
 #include <future>
 #include <memory>
@@ -74,6 +75,11 @@ class RenderThread {
   bool submit_frame(Snapshot s);
   bool offer_preview(Snapshot s);
   RenderStats stop();
+  // Blocks until every movie frame submitted so far is written (or the renderer failed).
+  void wait_idle();
+  // One past the index of the last movie frame whose files are written (its PNG, and its MP4
+  // fragment), -1 before the first: what a checkpoint may count as on disk.
+  long frames_written_through() const;
 
   bool running() const { return thread_.joinable(); }
   // True while the set-up runs and from submit_frame() until that frame's files are written
@@ -104,6 +110,9 @@ class RenderThread {
   ContextInfo info_;
   RenderStats stats_;
   std::atomic<int> frames_in_flight_{0};
+  std::atomic<long> written_through_{-1};
+  std::mutex idle_mu_;
+  std::condition_variable idle_cv_;
   std::mutex busy_mu_;  // serialises on_busy_ calls
   bool busy_reported_ = false;
 };

@@ -338,10 +338,11 @@ TEST(ControlFile, StartFromAnotherRun) {
   // Round trip; the default (the reference sphere) writes no "start".
   EXPECT_EQ(parse_control(to_json_text(p.options)).options.start.from, "runs/a");
   EXPECT_EQ(to_json_text(parse_control(kMinimal).options).find("\"start\""), std::string::npos);
-  EXPECT_EQ(parse_control(R"({"ca": 0.4, "start": {"from": ""}})").options.start.from,
-            "");  // the default
+  // "" names nothing: refused (leave the key out to start from rest)
+  expect_contains(issue_at(R"({"ca": 0.4, "start": {"from": ""}})", "start.from"),
+                  "expected a non-empty string");
   expect_contains(issue_at(R"({"ca": 0.4, "start": {"from": 3}})", "start.from"),
-                  "expected a string");
+                  "expected a non-empty string");
   expect_contains(
       issue_at(R"({"ca": 0.4, "start": {"restore_volume": 1}})", "start.restore_volume"),
       "true or false");

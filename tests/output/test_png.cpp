@@ -19,7 +19,7 @@ TEST(PngWriter, RoundTripIsExactAndAtomicWriteReplaces) {
   for (size_t i = 3; i < img.size(); i += 4) img[i] = 255;
   const std::string path = std::string(::testing::TempDir()) + "capflow_png_" +
                            std::to_string(::getpid()) + ".png";
-  write_png_atomic(path, w, h, img.data());
+  write_png(path, w, h, img.data());
   int rw = 0, rh = 0, comp = 0;
   unsigned char* back = stbi_load(path.c_str(), &rw, &rh, &comp, 4);
   ASSERT_NE(back, nullptr);
