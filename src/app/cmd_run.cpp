@@ -1,8 +1,8 @@
 // capflow run CONTROL.json | --resume RUN_DIR: simulate the capsule as the control file says (see
 // docs/usage.md, "capflow run"); the control file is watched and edits steer the run.
 // Signals: the first SIGINT/SIGTERM/SIGHUP finishes the current step, writes a checkpoint,
-// finalises the movie and exits with a summary; a second one exits at once (the fragmented MP4
-// stays playable). SIGXFSZ is ignored, so that a file-size limit is an output failure (exit 5)
+// finalises the movie and exits with a summary; a second SIGINT or SIGTERM exits at once (the
+// fragmented MP4 stays playable). SIGPIPE is ignored: a closed console does not stop a run. SIGXFSZ is ignored, so that a file-size limit is an output failure (exit 5)
 // rather than a kill.
 // Exit codes (app/errors.h): 0 done, 2 invalid input, 3 internal error, 4 the simulation
 // failed, 5 a run file could not be written.

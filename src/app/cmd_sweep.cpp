@@ -25,6 +25,9 @@ void setup_sweep(CLI::App& root) {
                 "Cases run side by side, each with cores / jobs OpenMP threads (default 1)")
       ->check(CLI::Range(1, 1024));
   c->add_flag("--summary", args->summary, "Rewrite sweep.csv from the case directories only");
+  c->add_flag("--overwrite", args->overwrite,
+              "Start the sweep in output.dir afresh (its cases are removed), or write it into a "
+              "directory that holds other files (none of them is removed)");
   c->add_option("--ranks-per-case", args->ranks_per_case,
                 "Under mpirun -np N (N a multiple of G): each case runs on a group of G ranks, "
                 "N / G cases side by side (default 1: one case per rank, no MPI)")

@@ -100,6 +100,17 @@ RunCheckpoint decode(const output::Checkpoint& c) {
   if (c.has("h_next")) s.h_next = c.scalar("h_next");
   if (!(std::isfinite(s.h_next) && s.h_next >= 0 && s.h_next <= 1))
     throw output::CheckpointError(p + ": invalid h_next (the adaptive step) in the checkpoint");
+  if (c.has("step_history")) {
+    const auto& h = c.doubles("step_history", 3);
+    capsule::AdaptiveStepper::History hist;
+    hist.e_prev = h[0];
+    hist.steps = static_cast<long>(h[1]);
+    hist.h_free = h[2];
+    if (!(std::isfinite(h[0]) && h[0] >= 0 && h[1] >= 0 && h[1] <= 1e15 && h[1] == std::floor(h[1]) &&
+          std::isfinite(h[2]) && h[2] >= 0 && h[2] <= 1))
+      throw output::CheckpointError(p + ": invalid step_history (the adaptive controller's state)");
+    s.step_history = hist;
+  }
   if (c.has("krylov_warm")) {
     const auto& w = c.doubles("krylov_warm");
     s.krylov_warm =
@@ -148,6 +159,10 @@ void write_run_checkpoint(const RunCheckpoint& s, const std::string& path) {
   c.put_scalar("pending_steady_ca", s.pending_steady_ca);
   c.put_scalar("pending_ca", s.pending_ca);
   c.put_scalar("h_next", s.h_next);
+  if (s.step_history)
+    c.put("step_history", std::vector<double>{s.step_history->e_prev,
+                                              static_cast<double>(s.step_history->steps),
+                                              s.step_history->h_free});
   if (s.krylov_warm.size() > 0)
     c.put("krylov_warm",
           std::vector<double>(s.krylov_warm.data(), s.krylov_warm.data() + s.krylov_warm.size()));

@@ -212,10 +212,12 @@ struct Simulation::Impl {
     attach_team(*cap, opt);  // the ranks of an MPI run share its velocity evaluations
   }
 
-  // h_next: the adaptive integrator's first step (from a checkpoint; 0 = estimate).
-  void start_monitors(std::optional<double> initial_ca, double h_next = 0) {
+  // h_next, history: the adaptive integrator's first step and controller state (from a
+  // checkpoint; 0 and none = estimate anew).
+  void start_monitors(std::optional<double> initial_ca, double h_next = 0,
+                      const std::optional<TimeStepper::History>& history = std::nullopt) {
     health = std::make_unique<capsule::HealthMonitor>(*mesh, cap->positions());
-    stepper = std::make_unique<TimeStepper>(*cap, opt.time, h_next);
+    stepper = std::make_unique<TimeStepper>(*cap, opt.time, h_next, history);
     schedule = std::make_unique<control::CaScheduler>(opt.ca, opt.steady, cap->time(), initial_ca);
     cadence = std::make_unique<OutputCadence>(opt.output, cap->time());
     next_sample = cap->time();
@@ -385,6 +387,7 @@ struct Simulation::Impl {
     s.pending_steady_ca = pending_steady_ca;
     s.pending_ca = pending_ca;
     s.h_next = stepper->adaptive() ? stepper->next_step() : 0.0;
+    if (stepper->adaptive()) s.step_history = stepper->history();
     s.krylov_warm = cap->krylov_warm_start();
     return s;
   }
@@ -403,8 +406,6 @@ struct Simulation::Impl {
     const fs::path path = dir->checkpoint_path(cap->step_count());
     const RunCheckpoint state = checkpoint_state();
     write_run_checkpoint(state, path.string());
-    // The integrator continues exactly as a resume from this checkpoint would.
-    stepper->restart(state.h_next);
     dir->prune_checkpoints(3);
     event(Record()
               .set("event", "checkpoint")
@@ -871,7 +872,7 @@ std::unique_ptr<Simulation> Simulation::resume(const std::string& run_dir,
   } catch (const std::invalid_argument& e) {
     throw UserError(c.path + ": " + e.what());
   }
-  s.start_monitors(c.ca, c.h_next);
+  s.start_monitors(c.ca, c.h_next, c.step_history);
   try {
     s.schedule->restore(c.schedule);
     s.health->restore(c.health_normals, c.health_flags);

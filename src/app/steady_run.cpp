@@ -155,6 +155,7 @@ class SteadyRun {
       if (!ok) {
         sum.failed = true;
         sum.failure = failure_;
+        keep_last_good_state(levels_[i]);
         break;
       }
       ++sum.states;
@@ -857,27 +858,52 @@ class SteadyRun {
                 t_);
   }
 
+  // A level failed (exit 4): its last good state is kept. That is the last steady state when
+  // there is one (its checkpoint is written); else the fine grid's capsule as the failed march
+  // left it (the time steps keep the last state that passed the health check).
+  void keep_last_good_state(double ca) {
+    if (states_ > 0) {
+      say("last good state: the steady state of " +
+          RunDirectory::checkpoints(dir_->path()).front().string());
+      return;
+    }
+    try {
+      const std::string ckpt = write_checkpoint(
+          ca, fine_.cap->positions(), fine_.cap->time(),
+          "the last good state of capflow steady's march to Ca = " + fixed(ca, 6) +
+              " before it failed (not a steady state)");
+      say("last good state (t = " + fixed(fine_.cap->time(), 4) + ", not steady) kept in " + ckpt);
+    } catch (const OutputError& e) {
+      say(std::string("the last good state could not be kept: ") + e.what());
+    }
+  }
+
   // The state as a checkpoint of a run held at this Ca (start.from, render, figure, --resume).
   std::string write_checkpoint(double ca) {
+    return write_checkpoint(ca, fine_.x, t_, "steady state by capflow steady");
+  }
+
+  std::string write_checkpoint(double ca, const Eigen::Matrix3Xd& x, double t,
+                               const std::string& note) {
     RunCheckpoint c;
     c.options = opt_;
     c.options.ca = control::CaSchedule{};
     control::CaSegment hold;
     hold.ca = ca;
     c.options.ca.segments.push_back(hold);
-    c.options.time.t_end = std::max(opt_.time.t_end, t_ + 1.0);
+    c.options.time.t_end = std::max(opt_.time.t_end, t + 1.0);
     c.control = control::to_json_text(c.options);
     c.control_file = c.control;
-    c.x = fine_.x;
-    c.t = t_;
+    c.x = x;
+    c.t = t;
     c.steps = steps_;
     c.ca = ca;
-    c.schedule = control::CaScheduler(c.options.ca, c.options.steady, t_, ca).state();
-    const capsule::HealthMonitor h(*fine_.mesh, fine_.x);
+    c.schedule = control::CaScheduler(c.options.ca, c.options.steady, t, ca).state();
+    const capsule::HealthMonitor h(*fine_.mesh, x);
     c.health_normals = h.normals();
     c.health_flags = h.flags();
     c.wall_s = wall();
-    c.note = "steady state by capflow steady";
+    c.note = note;
     dir_->subdirectory("checkpoints");
     const fs::path path = dir_->checkpoint_path(++states_);
     write_run_checkpoint(c, path.string());

@@ -9,9 +9,11 @@ namespace {
 std::atomic<bool> g_stop{false};
 
 extern "C" void capflow_app_on_stop_signal(int sig) {
-  if (g_stop.load()) {
+  // A hang-up comes more than once when a terminal closes (the shell passes it on, the kernel
+  // sends it to the foreground group): it never ends the process at once, only asks it to stop.
+  if (g_stop.load() && sig != SIGHUP) {
     std::signal(sig, SIG_DFL);
-    std::raise(sig);  // second signal: exit at once
+    std::raise(sig);  // second SIGINT or SIGTERM: exit at once
     return;
   }
   g_stop.store(true);

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
@@ -96,11 +97,81 @@ void write_atomically(const fs::path& p, const std::string& text) {
   }
 }
 
+// The names a sweep writes in its directory: case_NNN.json, case_NNN/, case_NNN.log, sweep.csv
+// (and its lock), sweep.sbatch, slurm_N.out, and temporary files of its atomic writes.
+bool sweep_entry(const std::string& name) {
+  const auto digits_between = [&](const std::string& pre, const std::string& post) {
+    if (name.size() <= pre.size() + post.size() || name.compare(0, pre.size(), pre) != 0 ||
+        name.compare(name.size() - post.size(), post.size(), post) != 0)
+      return false;
+    for (size_t i = pre.size(); i < name.size() - post.size(); ++i)
+      if (!std::isdigit(static_cast<unsigned char>(name[i]))) return false;
+    return true;
+  };
+  if (name == "sweep.csv" || name == "sweep.csv.lock" || name == "sweep.sbatch") return true;
+  if (digits_between("case_", "") || digits_between("case_", ".json") ||
+      digits_between("case_", ".log") || digits_between("slurm_", ".out"))
+    return true;
+  return name.size() > 4 && name.compare(name.size() - 4, 4, ".tmp") == 0 &&
+         (name.rfind("sweep.", 0) == 0 || name.rfind("case_", 0) == 0);
+}
+
+// True when sweep.csv in `dir` is a capflow sweep's summary (its header).
+bool capflow_summary(const fs::path& csv) {
+  try {
+    const std::string head = files::InputFile(csv.string(), "sweep summary", 64 << 20).read_prefix(4096);
+    const std::string line = head.substr(0, head.find('\n'));
+    const std::string tail = ",status,exit_code,reason,t,D,L,S,W,steps,dir";
+    return line.rfind("case,", 0) == 0 && line.size() >= tail.size() &&
+           line.compare(line.size() - tail.size(), tail.size(), tail) == 0;
+  } catch (const files::InputError&) {
+    return false;
+  }
+}
+
+// The sweep directory before anything is written into it, by run's rules: a new or empty
+// directory, or one that holds a capflow sweep (re-running it continues it, whatever else the
+// user keeps beside it); a directory with only other things in it is refused unless --overwrite, and even then a file of the user's in a
+// place the sweep writes (a sweep.csv that is not a capflow summary) is refused: capflow never
+// replaces what it did not write. --overwrite on a sweep removes the sweep's own entries, so it
+// starts afresh.
+void prepare_sweep_directory(const control::SweepPlan& plan, bool overwrite) {
+  const fs::path dir(plan.dir);
+  std::error_code ec;
+  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
+    throw UserError("output.dir " + plan.dir + " exists and is not a directory");
+  std::vector<std::string> foreign;
+  bool ours = false;
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    const std::string name = e.path().filename().string();
+    if (!sweep_entry(name)) {
+      foreign.push_back(name);
+    } else if (name == "sweep.csv" && !capflow_summary(e.path())) {
+      throw UserError("output.dir " + plan.dir + " holds a sweep.csv that is not a capflow sweep's "
+                      "summary: capflow would replace it; give the sweep another output.dir");
+    } else {
+      ours = true;
+    }
+  }
+  if (!foreign.empty() && !ours && !overwrite) {
+    std::string names;
+    for (size_t i = 0; i < foreign.size() && i < 3; ++i) names += (i ? ", " : "") + foreign[i];
+    throw UserError("output.dir " + plan.dir + " is not empty and is not a capflow sweep (it holds " +
+                    names + (foreign.size() > 3 ? ", ..." : "") +
+                    "): give a new or empty directory, or --overwrite to write the sweep beside "
+                    "what is there (nothing of it is removed)");
+  }
+  if (overwrite && ours) {
+    for (const auto& e : fs::directory_iterator(dir, ec))
+      if (sweep_entry(e.path().filename().string())) fs::remove_all(e.path(), ec);
+  }
+}
+
 // The case control files: written when absent, refused when they differ from the sweep's.
 void write_case_files(const control::SweepPlan& plan) {
   std::error_code ec;
   fs::create_directories(plan.dir, ec);
-  if (ec) throw OutputError("cannot create the sweep directory " + plan.dir + ": " + ec.message());
+  if (ec) throw UserError("cannot create the sweep directory " + plan.dir + ": " + ec.message());
   for (const control::SweepCase& c : plan.cases) {
     const fs::path p = fs::path(plan.dir) / (c.name + ".json");
     if (fs::exists(p)) {
@@ -389,6 +460,11 @@ int run_sweep(const SweepArgs& a) {
   if (a.only_case >= n)
     throw UserError("--case " + std::to_string(a.only_case) + ": the sweep has cases 0 to " +
                     std::to_string(n - 1));
+  if (a.overwrite && (a.ranks_per_case > 1 || launcher_share().size > 1 || a.only_case >= 0))
+    throw UserError(
+        "--overwrite starts the sweep afresh: give it to one process (not under mpirun, srun or a "
+        "Slurm array task), then run the sweep's ranks without it");
+  if (a.only_case < 0 && !a.summary) prepare_sweep_directory(plan, a.overwrite);
   write_case_files(plan);
   if (a.slurm) {
     write_slurm(plan, a.file);

@@ -28,6 +28,10 @@
 // cases side by side, each with (cores / N) OpenMP threads unless OMP_NUM_THREADS is set. Each
 // child runs in its own process group: the first SIGINT/SIGTERM/SIGHUP of the sweep is passed to
 // the running cases as one SIGTERM each (they checkpoint and stop), and no further case starts.
+// The sweep directory follows run's rules: new, empty, or a sweep of capflow's (continued); a
+// directory with anything else is refused unless --overwrite, which writes the sweep beside what
+// is there but never replaces a file capflow did not write (a user's sweep.csv is refused);
+// --overwrite on a sweep removes its own entries and starts it afresh.
 // Only `capflow run` controls are swept (not `capflow steady` ones).
 #pragma once
 
@@ -42,6 +46,7 @@ struct SweepArgs {
   bool summary = false;    // rewrite sweep.csv from the case directories, run nothing
   int jobs = 1;            // cases side by side (each with cores / jobs OpenMP threads)
   int ranks_per_case = 1;  // > 1: under an MPI launcher, each case runs on a group of this many
+  bool overwrite = false;  // start an existing sweep afresh; allow a non-empty directory
 };
 
 // Runs the sweep; returns the exit code (0 every case done, 4 some case failed, 5 an output

@@ -15,10 +15,18 @@ Eigen::Map<const Eigen::Matrix3Xd> as_positions(const Eigen::VectorXd& y) {
 
 }  // namespace
 
-TimeStepper::TimeStepper(capsule::Capsule& cap, const control::TimeOptions& time, double h_next)
+TimeStepper::TimeStepper(capsule::Capsule& cap, const control::TimeOptions& time, double h_next,
+                         const std::optional<History>& history)
     : cap_(cap) {
   configure(time);
-  if (stepper_) restart(h_next);
+  if (!stepper_) return;
+  if (history && h_next > 0) {
+    const Eigen::Matrix3Xd& x = cap_.positions();
+    stepper_->resume(cap_.time(), Eigen::Map<const Eigen::VectorXd>(x.data(), x.size()), h_next,
+                     *history);
+  } else {
+    restart(h_next);
+  }
 }
 
 TimeStepper::~TimeStepper() = default;
@@ -52,6 +60,10 @@ bool TimeStepper::done(double t_end) const {
   const double t = cap_.time();
   if (!time_.adaptive) return t >= t_end - 0.5 * time_.dt;
   return t >= t_end - 1e-12 * std::max(1.0, std::abs(t_end));
+}
+
+TimeStepper::History TimeStepper::history() const {
+  return stepper_ ? stepper_->history() : History{};
 }
 
 double TimeStepper::next_step() const {

@@ -10,11 +10,14 @@
 // good state and reports the failure; the adaptive one retries the step at a quarter of its
 // size (and reports a failure only below the smallest step, time.dt's floor).
 // restart() re-initialises the adaptive integrator from the capsule's state with the step it
-// proposed (controller history dropped): after a level change or an edit of Ca (Ca may jump),
-// and at every checkpoint, so that a resume continues bit for bit.
+// proposed (controller history dropped): after a level change or an edit of Ca (Ca may jump).
+// Checkpoints store next_step() and history() instead, and a resume starts from them: a
+// checkpoint never changes the run, and a resume from any of them (a signal's too) continues
+// bit for bit.
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -27,8 +30,11 @@ namespace capflow::app {
 
 class TimeStepper {
  public:
-  // h_next: the adaptive integrator's first step (a checkpoint's; 0 = ARKODE's estimate).
-  TimeStepper(capsule::Capsule& cap, const control::TimeOptions& time, double h_next = 0);
+  using History = capsule::AdaptiveStepper::History;
+  // h_next: the adaptive integrator's first step (a checkpoint's; 0 = ARKODE's estimate);
+  // history: the controller's memory a checkpoint saved (none: a fresh start).
+  TimeStepper(capsule::Capsule& cap, const control::TimeOptions& time, double h_next = 0,
+              const std::optional<History>& history = std::nullopt);
   ~TimeStepper();
 
   // A live edit of time.*: switching between "auto" and a fixed dt, or a new tolerance, applies
@@ -50,6 +56,8 @@ class TimeStepper {
 
   // The step the next advance() starts with (fixed: dt).
   double next_step() const;
+  // The adaptive controller's memory (a fixed dt: the default).
+  History history() const;
   // Adaptive: start again from the capsule's state with next_step() (or h when h > 0).
   void restart(double h = 0);
 

@@ -18,6 +18,14 @@ Eigen::Map<Eigen::VectorXd> view(N_Vector v) {
   return {N_VGetArrayPointer(v), static_cast<Eigen::Index>(N_VGetLength(v))};
 }
 
+// ARKODE's explicit Gustafsson controller (arkAdaptExpGus, imethod 3, default constants AD3_K1,
+// AD3_K2), its error bias (BIAS) and TINY, for the controller below; ERKStep's growth bound of a
+// step over the one before (its default, set explicitly).
+constexpr double kGusK1 = 0.367, kGusK2 = 0.268;
+constexpr double kBias = 1.5;
+constexpr double kTiny = 1e-10;
+constexpr double kGrowth = 25.0;
+
 void require(int flag, const char* call) {
   if (flag < 0)
     throw std::runtime_error(std::string("ARKODE ") + call + " failed (flag " +
@@ -37,6 +45,29 @@ struct AdaptiveStepper::Arkode {
   std::string rhs_error;       // what the right-hand side threw
   std::string message;         // ARKODE's last error message
   long evals = 0;
+  AdaptiveStepper::History history;  // the controller's memory (ours: it is saved with the state)
+  double e_attempt = 1;              // the biased error estimate of the last attempt
+
+  // ARKODE's explicit Gustafsson controller, step for step, on our own history instead of
+  // ARKODE's (which a new ERKStep object - a resumed run's - does not have):
+  //   the first two steps of the integrator (nst < 2, counting the attempt when it passes):
+  //     h_new = h e^(-1/p);   then  h_new = h e^(-k1/p) (e / e_prev)^(-k2/p),
+  // e the biased error estimate (bias dsm, at least TINY), e_prev the last accepted step's (1
+  // after a restart, as ERKStepSetInitStep clears it), p the embedding's order.
+  static int adapt(N_Vector, realtype, realtype h, realtype, realtype, realtype e, realtype,
+                   realtype, int, int p, realtype* h_new, void* data) {
+    auto* a = static_cast<Arkode*>(data);
+    a->e_attempt = e;
+    const long nst = a->history.steps + (e / kBias <= 1.0 ? 1 : 0);
+    const double e1 = std::max(e, kTiny);
+    if (nst < 2) {
+      *h_new = h * std::pow(e1, -1.0 / p);
+    } else {
+      const double e2 = e1 / std::max(a->history.e_prev, kTiny);
+      *h_new = h * std::pow(e1, -kGusK1 / p) * std::pow(e2, -kGusK2 / p);
+    }
+    return 0;
+  }
 
   static int f(realtype t, N_Vector y, N_Vector ydot, void* data) {
     auto* a = static_cast<Arkode*>(data);
@@ -87,6 +118,21 @@ AdaptiveStepper::AdaptiveStepper(Rhs rhs, const AdaptiveOptions& options)
 AdaptiveStepper::~AdaptiveStepper() = default;
 
 void AdaptiveStepper::restart(double t, const Eigen::VectorXd& y, double h) {
+  begin(t, y, h);
+  ark_->history.e_prev = 1.0;  // ERKStepSetInitStep clears ARKODE's error history the same way
+  h_free_ = h;                 // what a restart knows of the step size
+}
+
+void AdaptiveStepper::resume(double t, const Eigen::VectorXd& y, double h, const History& hist) {
+  if (!(std::isfinite(hist.e_prev) && hist.e_prev >= 0) || hist.steps < 0 ||
+      !(std::isfinite(hist.h_free) && hist.h_free >= 0 && hist.h_free <= opt_.h_max))
+    throw std::invalid_argument("AdaptiveStepper: invalid controller history");
+  ark_->history = hist;
+  begin(t, y, h);
+  h_free_ = hist.h_free;
+}
+
+void AdaptiveStepper::begin(double t, const Eigen::VectorXd& y, double h) {
   Arkode& a = *ark_;
   if (!a.y || N_VGetLength(a.y) != y.size()) {
     if (a.mem) ERKStepFree(&a.mem);
@@ -101,18 +147,22 @@ void AdaptiveStepper::restart(double t, const Eigen::VectorXd& y, double h) {
     require(ERKStepSetErrHandlerFn(a.mem, &Arkode::on_error, &a), "ERKStepSetErrHandlerFn");
     require(ERKStepSetUserData(a.mem, &a), "ERKStepSetUserData");
     require(ERKStepSetTableNum(a.mem, ARKODE_CASH_KARP_6_4_5), "ERKStepSetTableNum");
-    // Gustafsson's controller for explicit methods (imethod 3), made for steps that are
-    // limited by stability rather than accuracy.
-    require(ERKStepSetAdaptivityMethod(a.mem, 3, 1, 0, nullptr), "ERKStepSetAdaptivityMethod");
+    // Gustafsson's controller for explicit methods, made for steps that are limited by
+    // stability rather than accuracy (Arkode::adapt: ARKODE's, on a history we keep).
+    require(ERKStepSetAdaptivityFn(a.mem, &Arkode::adapt, &a), "ERKStepSetAdaptivityFn");
+    require(ERKStepSetMaxGrowth(a.mem, kGrowth), "ERKStepSetMaxGrowth");
     require(ERKStepSetMinStep(a.mem, opt_.h_min), "ERKStepSetMinStep");
     require(ERKStepSetMaxStep(a.mem, opt_.h_max), "ERKStepSetMaxStep");
     require(ERKStepSStolerances(a.mem, opt_.tolerance, opt_.tolerance), "ERKStepSStolerances");
   }
   require(ERKStepSetInitStep(a.mem, std::clamp(h, 0.0, opt_.h_max)), "ERKStepSetInitStep");
+  // ARKODE bounds the growth of its first step by 1e4 and of every later one (after a reset too)
+  // by kGrowth: a resumed run's new ERKStep object continues with the later bound.
+  require(ERKStepSetMaxFirstGrowth(a.mem, a.history.steps > 0 ? kGrowth : 0.0),
+          "ERKStepSetMaxFirstGrowth");
   require(ERKStepReset(a.mem, t, a.y), "ERKStepReset");
   a.y_now = y;
   t_ = t;
-  h_free_ = h;     // what a restart knows of the step size: all a resume knows
   h_pending_ = h;  // next_step() until a step is taken
 }
 
@@ -154,6 +204,8 @@ AdaptiveStepper::Step AdaptiveStepper::step(double t_stop, const Finish& finish,
     }
     double h = 0;
     if (why.empty()) {
+      ++a.history.steps;  // ARKODE's nst
+      a.history.e_prev = a.e_attempt;  // its error history (cleared below by a restart)
       ERKStepGetLastStep(a.mem, &h);
       s.t = t_reached;
       s.h = t_reached - t0;
@@ -186,6 +238,12 @@ AdaptiveStepper::Step AdaptiveStepper::step(double t_stop, const Finish& finish,
     }
     restart(t0, y0, h_try);
   }
+}
+
+AdaptiveStepper::History AdaptiveStepper::history() const {
+  History h = ark_->history;
+  h.h_free = h_free_;
+  return h;
 }
 
 double AdaptiveStepper::next_step() const {

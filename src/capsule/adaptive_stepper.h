@@ -3,7 +3,9 @@
 //
 // Method: the Cash-Karp 6-stage pair (order 5, embedded order 4; ARKODE_CASH_KARP_6_4_5) with
 // ARKODE's explicit Gustafsson step-size controller, relative and absolute tolerance `tolerance`
-// on every coordinate (positions are O(1) in units of a). An explicit pair also controls the
+// on every coordinate (positions are O(1) in units of a). The controller runs as ARKODE's
+// custom adaptivity function with ARKODE's formula and constants, on a history this class keeps
+// (history()): the same steps as ARKODE's own, and a history that a checkpoint can save. An explicit pair also controls the
 // stability limit: beyond it the stiff membrane modes grow and the error estimate rejects the
 // step, so the accepted steps settle just inside the limit. Gustafsson's controller is made for
 // that regime (fewer rejections than the PI and PID controllers there: docs/performance.md).
@@ -18,9 +20,10 @@
 //   * steps that end exactly on breakpoints (ARKODE's stop time, given anew for every step); the
 //     step after one cut short at a breakpoint starts from the last step that was not cut (the
 //     controller would grow it from the short one and overshoot the stability limit).
-// restart() forgets the controller history and keeps only the next step size; the simulation
-// restarts at every checkpoint, so that a resumed run starts from the same integrator state as
-// the run that continued: resumes are bit-identical.
+// restart() forgets the controller's error history (as ARKODE's own restart does) and keeps the
+// next step size. Between two steps the integrator's whole state is (t, y, next_step(),
+// history()): a checkpoint that stores them resumes bit for bit at any step (a signal's), not
+// only where the run restarted.
 #pragma once
 
 #include <Eigen/Dense>
@@ -60,6 +63,19 @@ class AdaptiveStepper {
   // Starts (again) from (t, y); the first step is h (0: ARKODE's estimate from the tolerance).
   void restart(double t, const Eigen::VectorXd& y, double h);
 
+  // The controller's memory between steps: the last accepted step's biased error estimate (1
+  // after a restart), the steps taken (ARKODE's nst: the first two use a simpler formula, and
+  // only the first grows by more than 20x), and the last step that was not cut at a stop time.
+  struct History {
+    double e_prev = 1;
+    long steps = 0;
+    double h_free = 0;
+  };
+  History history() const;
+  // Starts from (t, y) as a run that saved (h, history) there goes on: its next step h and its
+  // controller's memory. std::invalid_argument for a malformed history.
+  void resume(double t, const Eigen::VectorXd& y, double h, const History& history);
+
   struct Step {
     double t = 0;              // the time reached (t_stop exactly when the step was cut there)
     double h = 0;              // the step taken
@@ -80,6 +96,7 @@ class AdaptiveStepper {
 
  private:
   struct Arkode;
+  void begin(double t, const Eigen::VectorXd& y, double h);  // restart() without the clearing
   std::unique_ptr<Arkode> ark_;
   AdaptiveOptions opt_;
   double t_ = 0;

@@ -2,10 +2,13 @@
 #include "figures/writer.h"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <cstdlib>
 #include <fstream>
 #include <stdexcept>
 
+#include "figures/format.h"
 #include "figures/gnuplot.h"
 #include "files/atomic_write.h"
 #include "files/input_file.h"
@@ -29,6 +32,20 @@ std::string log_tail(const fs::path& p) {
   } catch (const files::InputError& e) {
     return e.what();
   }
+}
+
+// Values gnuplot cannot draw (not finite, or so large that its ranges overflow) become NaN, which
+// it skips; returns how many there were.
+long drop_unplottable(Figure* f) {
+  long n = 0;
+  for (Block& b : f->blocks)
+    for (auto& row : b.rows)
+      for (double& v : row)
+        if (!(std::abs(v) <= kMaxPlotValue)) {
+          if (!std::isnan(v)) ++n;
+          v = std::numeric_limits<double>::quiet_NaN();
+        }
+  return n;
 }
 
 // Empty blocks would shift gnuplot's `index` numbering (blank lines run together): drop them and
@@ -92,8 +109,18 @@ void Writer::emit(const Figure& fig) {
   // Series whose block is empty would make gnuplot fail: leave them out; a panel left without
   // series, or a figure without data, is skipped.
   Figure f = fig;
+  const long left_out = drop_unplottable(&f);
+  if (left_out > 0)
+    f.notes.push_back(std::to_string(left_out) + " value(s) beyond +-" + short_num(kMaxPlotValue) +
+                      " or not finite left out (gnuplot cannot draw them)");
   const auto empty = [&](const Series& s) {
-    return f.blocks[static_cast<size_t>(s.block)].rows.empty();
+    const Block& b = f.blocks[static_cast<size_t>(s.block)];
+    for (const auto& row : b.rows) {
+      const size_t x = static_cast<size_t>(s.xcol - 1), y = static_cast<size_t>(s.ycol - 1);
+      if (x < row.size() && y < row.size() && std::isfinite(row[x]) && std::isfinite(row[y]))
+        return false;
+    }
+    return true;
   };
   bool data = false;
   for (Panel& p : f.panels) {

@@ -18,6 +18,10 @@ namespace capflow::figures {
 
 bool gnuplot_on_path();
 
+// The largest magnitude a figure draws: beyond it gnuplot's axis ranges overflow (emit() leaves
+// such values out, and non-finite ones, with a note in figures.md).
+constexpr double kMaxPlotValue = 1e300;
+
 class Writer {
  public:
   using Say = std::function<void(const std::string& line)>;

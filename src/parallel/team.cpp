@@ -25,6 +25,17 @@ int launched_size() {
     if (const char* v = std::getenv(k)) return std::atoi(v);
   return 1;
 }
+
+// Open MPI's ranks open a TCP listener on every interface (its tcp BTL) unless told otherwise. A
+// job whose ranks all run on this node needs none of it - they talk through shared memory - so
+// unless the user chose the transports (OMPI_MCA_btl), such a job uses only "self,vader"
+// (docs/usage.md, "MPI and the network").
+void keep_single_node_jobs_off_the_network() {
+  const char* world = std::getenv("OMPI_COMM_WORLD_SIZE");
+  const char* local = std::getenv("OMPI_COMM_WORLD_LOCAL_SIZE");
+  if (!world || !local || std::getenv("OMPI_MCA_btl")) return;
+  if (std::string(world) == local) setenv("OMPI_MCA_btl", "self,vader", 0);
+}
 }  // namespace
 
 bool built_with_mpi() {
@@ -38,6 +49,7 @@ bool built_with_mpi() {
 void start(int* argc, char*** argv) {
 #ifdef CAPFLOW_HAVE_MPI
   if (g_started || launched_size() <= 1) return;
+  keep_single_node_jobs_off_the_network();
   int provided = 0;
   MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided);
   g_comm = MPI_COMM_WORLD;
