@@ -34,7 +34,7 @@
 
 #include "app/commands.h"
 #include "app/console.h"
-#include "app/render_flags.h"
+#include "app/figure_args.h"
 #include "app/run_directory.h"
 #include "app/saved_state.h"
 #include "app/surface_files.h"
@@ -55,25 +55,6 @@ namespace {
 namespace fs = std::filesystem;
 using figures::RunInfo;
 using figures::short_num;
-
-RenderFlags figure_view_flags() {
-  RenderFlags f;
-  f.width = 1200;
-  f.height = 900;
-  return f;
-}
-
-struct FigureCmd {
-  std::vector<std::string> runs;
-  std::string out = "figures";
-  std::vector<std::string> kinds{"timeseries", "profiles", "steady", "views"};
-  std::vector<double> times;
-  std::vector<std::string> labels;
-  std::string vector = "svg";
-  bool no_png = false, no_gnuplot = false, no_references = false;
-  RenderFlags view = figure_view_flags();  // the 3-D views
-  std::string view_name;                   // --view: instead of each run's camera
-};
 
 // The largest sweep.csv read (10000 cases of a few hundred bytes each).
 constexpr std::size_t kMaxSweepCsv = std::size_t{64} << 20;
@@ -133,21 +114,11 @@ std::vector<std::pair<double, std::string>> frames_with_times(const RunInfo& run
   return out;
 }
 
-void view_figures(figures::Writer& w, const FigureCmd& cmd, const std::vector<RunInfo>& runs) {
+void view_figures(figures::Writer& w, const FigureArgs& cmd, const std::vector<RunInfo>& runs) {
   using namespace capflow::render;
-  RenderOptions o;
-  apply_render_flags(cmd.view, &o);
-  o.png = o.mp4 = false;
+  const RenderOptions o = check_figure_args(cmd);
   std::optional<View> view;  // --view: instead of each run's camera
-  if (!cmd.view_name.empty()) {
-    View v;
-    if (!parse_view(cmd.view_name, &v))
-      throw UserError("--view: unknown '" + cmd.view_name + "' (oblique | xy | xz | yz)");
-    view = v;
-    o.camera.view = v;
-  }
-  std::string err;
-  if (!o.IsValid(&err)) throw UserError(err);
+  if (!cmd.view_name.empty()) view = o.camera.view;
   // One renderer for every view: with the default colour range (render/color_range.h) the views
   // share one range that holds all of them, so one colour is one tension across the figures.
   std::unique_ptr<Renderer> renderer;
@@ -241,7 +212,7 @@ void view_figures(figures::Writer& w, const FigureCmd& cmd, const std::vector<Ru
 
 // A sweep directory (capflow sweep: sweep.csv and case_NNN/ run directories) given in place of a
 // run stands for its cases, labelled by their values ("ca=0.3 capsule.C=1") from sweep.csv.
-void expand_sweeps(FigureCmd* c) {
+void expand_sweeps(FigureArgs* c) {
   if (!c->labels.empty()) return;
   std::vector<std::string> runs, labels;
   bool any = false;
@@ -302,18 +273,11 @@ RunInfo describe_run(const std::string& dir) {
   return r;
 }
 
-int run(FigureCmd c) {
+int run(FigureArgs c) {
+  check_figure_args(c);
   expand_sweeps(&c);
   if (c.runs.empty()) throw UserError("give at least one run directory (or a sweep directory)");
-  if (!c.labels.empty() && c.labels.size() != c.runs.size())
-    throw UserError("--labels needs one label per run directory (" + std::to_string(c.runs.size()) +
-                    ")");
-  if (c.vector != "svg" && c.vector != "pdf")
-    throw UserError("--vector " + c.vector + ": unknown format (svg | pdf)");
-  const std::set<std::string> known{"timeseries", "profiles", "steady", "views"};
-  for (const auto& k : c.kinds)
-    if (!known.count(k))
-      throw UserError("--kinds: unknown '" + k + "' (timeseries, profiles, steady, views)");
+  check_labels(c);
   std::vector<RunInfo> runs;
   std::set<std::string> used;
   for (size_t i = 0; i < c.runs.size(); ++i) {
@@ -379,37 +343,14 @@ int run(FigureCmd c) {
 }
 
 void setup(CLI::App& root) {
-  auto c = std::make_shared<FigureCmd>();
+  auto c = std::make_shared<FigureArgs>();
   CLI::App* sub = root.add_subcommand(
       "figure",
       "Figures from run directories: time series, profiles, steady-state curves (gnuplot\n"
       "scripts + data + SVG/PDF + PNG) and 3-D views (rendered from the saved surface\n"
       "nearest in time; from the nearest frame PNG when the run saved no surface).\n"
       "figures.md in the output directory lists what was made and from what.");
-  sub->add_option(
-         "runs", c->runs,
-         "run directories (several: overlaid / compared), or a sweep directory (its cases)")
-      ->required();
-  sub->add_option("-o,--output", c->out, "output directory (created)");
-  sub->add_option("--kinds", c->kinds, "timeseries,profiles,steady,views (default all)")
-      ->delimiter(',')
-      ->allow_extra_args(false);
-  sub->add_option("--times", c->times,
-                  "T1,T2,...: times of profiles and 3-D views (nearest available); default "
-                  "profiles: 4 spread over the run, views: the last saved time")
-      ->delimiter(',')
-      ->allow_extra_args(false);
-  sub->add_option("--labels", c->labels, "legend labels, one per run (default: directory names)")
-      ->delimiter(',')
-      ->allow_extra_args(false);
-  sub->add_option("--vector", c->vector, "vector format: svg | pdf");
-  sub->add_flag("--no-png", c->no_png, "no PNG beside the vector image");
-  sub->add_flag("--no-gnuplot", c->no_gnuplot, "write the .gp/.dat files without running gnuplot");
-  sub->add_flag("--no-references", c->no_references,
-                "leave out the theory lines and published values drawn where they apply");
-  add_render_flags(sub, &c->view, "3-D view ");
-  sub->add_option("--view", c->view_name,
-                  "3-D views from oblique | xy | xz | yz (default: each run's render.view)");
+  add_figure_args(sub, c.get());
   sub->callback([c] { set_exit_code(run(*c)); });
 }
 

@@ -18,7 +18,7 @@
 
 #include "app/commands.h"
 #include "app/console.h"
-#include "app/render_flags.h"
+#include "app/render_args.h"
 #include "app/saved_state.h"
 #include "geometry/mesh.h"
 #include "geometry/shapes.h"
@@ -29,55 +29,16 @@
 namespace capflow::app {
 namespace {
 
-struct RenderCmd {
-  std::string source;          // a run directory, .ckpt or .vtp (empty: an analytic shape)
-  std::optional<double> time;  // with a run directory: the saved surface nearest to it
-  bool camera_given = false;   // --view or --eye: instead of the run's camera
-  bool shape_given = false;
-  int ne = 10, nb = 12;
-  std::string shape = "ellipsoid", demo = "stretch", view = "oblique", out = "capflow.png";
-  std::vector<double> ellipsoid{1.8, 0.7, 1.0}, eye, target, up;
-  double fov = 30;
-  bool ortho = false, no_lines = false, no_colorbar = false, no_text = false;
-  int msaa = 4;
-  std::string antialias = "auto";
-  RenderFlags image;  // width 1280, height 720
-};
-
-// The semi-axes --ellipsoid takes (in units of the sphere's radius).
-constexpr double kMinSemiAxis = 0.01, kMaxSemiAxis = 100;
-
-std::string numbers(const std::vector<double>& v) {
-  std::ostringstream s;
-  for (size_t i = 0; i < v.size(); ++i) s << (i ? "," : "") << v[i];
-  return s.str();
-}
-
-std::array<double, 3> vec3(const std::vector<double>& v, const char* name) {
-  if (v.size() != 3)
-    throw UserError(std::string("--") + name + " " + numbers(v) + ": needs three numbers X,Y,Z");
-  return {v[0], v[1], v[2]};
-}
-
 // An analytic shape on the spectral mesh, coloured by a demonstration field.
-render::Snapshot analytic_shape(const RenderCmd& c) {
+render::Snapshot analytic_shape(const RenderArgs& c) {
   geometry::Mesh mesh(c.ne, c.nb);
   geometry::PointMap map;
   if (c.shape == "sphere")
     map = geometry::ellipsoid_map(1, 1, 1);
-  else if (c.shape == "ellipsoid") {
-    if (c.ellipsoid.size() != 3)
-      throw UserError("--ellipsoid needs three semi-axes A,B,C, got " +
-                      std::to_string(c.ellipsoid.size()) + " numbers");
-    for (double a : c.ellipsoid)
-      if (!(a >= kMinSemiAxis && a <= kMaxSemiAxis))
-        throw UserError("--ellipsoid " + numbers(c.ellipsoid) + ": every semi-axis must be in [" +
-                        numbers({kMinSemiAxis}) + ", " + numbers({kMaxSemiAxis}) + "]");
+  else if (c.shape == "ellipsoid")
     map = geometry::ellipsoid_map(c.ellipsoid[0], c.ellipsoid[1], c.ellipsoid[2]);
-  } else if (c.shape == "lamellar")
-    map = geometry::lamellar_map();
   else
-    throw UserError("--shape: unknown '" + c.shape + "' (sphere|ellipsoid|lamellar)");
+    map = geometry::lamellar_map();  // check_render_args took no other name
   const auto x = geometry::map_points(mesh.reference(), map);
 
   render::Snapshot s;
@@ -105,8 +66,6 @@ render::Snapshot analytic_shape(const RenderCmd& c) {
     }
   } else if (c.demo == "x") {
     for (int k = 0; k < n; ++k) s.tau1[k] = s.tau2[k] = x(0, k);
-  } else {
-    throw UserError("--demo: unknown '" + c.demo + "' (stretch|x)");
   }
   // Deformation parameter from the extents in the shear (xy) plane.
   double lx = 0, ly = 0;
@@ -119,58 +78,36 @@ render::Snapshot analytic_shape(const RenderCmd& c) {
   return s;
 }
 
-int run(const RenderCmd& c) {
+int run(const RenderArgs& c) {
   using namespace capflow::render;
-  RenderOptions o;
-  apply_render_flags(c.image, &o);
-  o.msaa = c.msaa;
-  if (!parse_antialias(c.antialias, &o.antialias))
-    throw UserError("--antialias: unknown '" + c.antialias + "' (auto | msaa | lines | off)");
-  if (!c.eye.empty()) {
-    o.camera.view = View::Custom;
-    o.camera.eye = vec3(c.eye, "eye");
-    if (!c.target.empty()) o.camera.target = vec3(c.target, "target");
-    if (!c.up.empty()) o.camera.up = vec3(c.up, "up");
-  } else if (!parse_view(c.view, &o.camera.view)) {
-    throw UserError("--view: unknown '" + c.view + "'");
-  }
-  o.camera.orthographic = c.ortho;
-  o.camera.fov_deg = c.fov;
-  if (!(c.fov > 1 && c.fov < 170))
-    throw UserError("--fov " + numbers({c.fov}) + ": the field of view must be in (1, 170) degrees");
-  if (o.camera.view == View::Custom) {
-    const std::string why = custom_camera_problem(o.camera);
-    if (!why.empty()) throw UserError("--eye/--target/--up: " + why);
-  }
+  RenderOptions o = check_render_args(c);
   Snapshot s;
   if (!c.source.empty()) {
-    if (c.shape_given) throw UserError("--shape, --ellipsoid, --demo: only without a SOURCE");
     SavedState st = load_saved_state(c.source, c.time);
-    if (st.camera && !c.camera_given) o.camera = *st.camera;
+    if (st.camera && !c.camera_given) o.camera = *st.camera;  // the run's camera
     console::err("render: " + st.note);
     s = std::move(st.snapshot);
   } else {
-    if (c.time) throw UserError("--time: only with a SOURCE (a run directory)");
     s = analytic_shape(c);
   }
-  o.element_lines = !c.no_lines;
-  o.overlay_colorbar = !c.no_colorbar;
-  o.overlay_text = !c.no_text;
-  std::string err;
-  if (!o.IsValid(&err)) throw UserError(err);
-
   try {
     Renderer r(o);
     console::err(r.context_info().summary());
     Image img;
     FrameTimings t;
     r.render(s, &img, &t);
-    output::write_png(c.out, img.width, img.height, img.rgba.data());
+    try {
+      output::write_png(c.out, img.width, img.height, img.rgba.data());
+    } catch (const std::runtime_error& e) {
+      throw OutputError(e.what());
+    }
     std::ostringstream m;
     m << "render: wrote " << c.out << " (" << img.width << "x" << img.height << ", upsample "
       << t.upsample_ms << " ms, draw " << t.draw_ms << " ms, overlay " << t.overlay_ms
       << " ms, readback " << t.readback_ms << " ms)";
     console::err(m.str());
+  } catch (const OutputError&) {
+    throw;
   } catch (const std::invalid_argument& e) {
     throw UserError(e.what());
   } catch (const std::runtime_error& e) {
@@ -180,7 +117,7 @@ int run(const RenderCmd& c) {
 }
 
 void setup(CLI::App& root) {
-  auto c = std::make_shared<RenderCmd>();
+  auto c = std::make_shared<RenderArgs>();
   CLI::App* sub = root.add_subcommand(
       "render",
       "Render a surface to a PNG without running the solver (headless figure).\n"
@@ -192,38 +129,9 @@ void setup(CLI::App& root) {
       "lambda1 >= lambda2 of the map unit sphere -> shape where tau1, tau2 would be (so\n"
       "--field max shows lambda1, min lambda2, mean their average; all 1 on the sphere);\n"
       "'x' puts the x coordinate in both (a signed field, try --colormap coolwarm).");
-  sub->add_option("source", c->source,
-                  "a run directory, a checkpoint (.ckpt) or a surface (.vtp) to draw (default: an "
-                  "analytic shape)");
-  sub->add_option("--time", c->time,
-                  "with a run directory: the saved surface nearest to this time (default: the "
-                  "newest checkpoint)");
-  sub->add_option("--elements", c->ne, "NE: 6, 10 or 14")->check(CLI::IsMember({6, 10, 14}));
-  sub->add_option("--nb", c->nb, "NB: Gauss-Lobatto nodes per element direction")
-      ->check(CLI::Range(3, 64));
-  sub->add_option("--shape", c->shape, "sphere | ellipsoid | lamellar");
-  sub->add_option("--ellipsoid", c->ellipsoid, "semi-axes A,B,C of the ellipsoid")->delimiter(',');
-  sub->add_option("--demo", c->demo, "demonstration field: stretch | x");
-  sub->add_option("--view", c->view, "oblique | xy | xz | yz");
-  sub->add_option("--eye", c->eye, "explicit eye X,Y,Z (overrides --view)")->delimiter(',');
-  sub->add_option("--target", c->target, "explicit target X,Y,Z")->delimiter(',');
-  sub->add_option("--up", c->up, "explicit up X,Y,Z")->delimiter(',');
-  sub->add_option("--fov", c->fov, "vertical field of view in degrees");
-  sub->add_flag("--ortho", c->ortho, "orthographic projection (default perspective)");
-  sub->add_flag("--no-lines", c->no_lines, "do not draw element edges");
-  sub->add_flag("--no-colorbar", c->no_colorbar, "no colour bar");
-  sub->add_flag("--no-text", c->no_text, "no text block (t, Ca, D, law)");
-  add_render_flags(sub, &c->image);
-  sub->add_option(
-      "--antialias", c->antialias,
-      "auto | msaa | lines | off (auto: lines on a software rasteriser, msaa on a GPU)");
-  sub->add_option("--msaa", c->msaa, "multisample count with --antialias msaa (0 = off)");
-  sub->add_option("-o,--output", c->out, "output PNG");
+  add_render_args(sub, c.get());
   sub->callback([c, sub] {
-    c->camera_given = sub->get_option("--view")->count() + sub->get_option("--eye")->count() > 0;
-    c->shape_given = sub->get_option("--shape")->count() + sub->get_option("--ellipsoid")->count() +
-                         sub->get_option("--demo")->count() >
-                     0;
+    note_given(sub, c.get());
     set_exit_code(run(*c));
   });
 }

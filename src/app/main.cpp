@@ -34,6 +34,9 @@ int main(int argc, char** argv) {
   // A console that goes away (`| head`, a closed ssh pipe) must not end capflow: writes to it fail
   // with EPIPE instead (app/console.h), and runs go on.
   std::signal(SIGPIPE, SIG_IGN);
+  // A file-size limit makes a write fail (an output failure, exit 5, naming the file) instead of
+  // killing the process, for every command.
+  std::signal(SIGXFSZ, SIG_IGN);
   keep_freed_heap();
   // Under an MPI launcher the ranks > 0 serve rank 0's velocity evaluations (app/worker_team.h);
   // rank 0 runs the command and ends their service on every way out of main.

@@ -331,9 +331,10 @@ struct Simulation::Impl {
       return;
     }
     render::Snapshot sn = snapshot(m, ca);
-    sn.frame = frames++;
+    sn.frame = frames;
     if (!renderer->submit_frame(std::move(sn)))
       throw OutputError("frames could not be written: " + renderer->error());
+    ++frames;  // handed to the renderer
   }
 
   // The ParaView surface (app/surface_export.h: output.vtk_points per element edge, tensions,
@@ -398,6 +399,15 @@ struct Simulation::Impl {
     if (!renderer) return frames;
     const long through = renderer->frames_written_through();
     return through >= 0 ? through : session_first_frame;
+  }
+
+  // Movie frames handed to the renderer that it did not write (it failed with them in its
+  // queue). A frame of this step that was not handed over is not among them: a checkpoint of
+  // this state records it as due (pending.frame).
+  long frames_lost_in_flight() const {
+    if (!renderer) return 0;
+    renderer->wait_idle();
+    return std::max(0L, frames - frames_on_disk());
   }
 
   void write_checkpoint(const std::string& why) {
@@ -1014,11 +1024,22 @@ RunSummary Simulation::run(const std::atomic<bool>* stop) {
     // The state is good: keep it if the disk still takes a checkpoint; otherwise the last one
     // written stays the one to resume from.
     std::string kept = Simulation::latest_checkpoint(s.dir->path().string());
-    try {
-      s.write_checkpoint("output failure");
-      kept = Simulation::latest_checkpoint(s.dir->path().string());
-    } catch (const OutputError& e2) {
-      s.best_effort([&] { s.say(std::string("final checkpoint not written: ") + e2.what()); });
+    const long lost = s.frames_lost_in_flight();
+    if (lost > 0) {
+      // Frames of earlier states were in the renderer's queue when it failed: a checkpoint of
+      // this state would skip their times. The last checkpoint stays the one to resume from, and
+      // the resume makes them again.
+      s.best_effort([&] {
+        s.say(std::to_string(lost) + " frame(s) in the renderer's queue were not written: no " +
+              "checkpoint of this state (a resume makes them again from the last one)");
+      });
+    } else {
+      try {
+        s.write_checkpoint("output failure");
+        kept = Simulation::latest_checkpoint(s.dir->path().string());
+      } catch (const OutputError& e2) {
+        s.best_effort([&] { s.say(std::string("final checkpoint not written: ") + e2.what()); });
+      }
     }
     if (kept.empty() && s.fresh_start) {
       // No checkpoint was ever written: the start failed. Nothing is left behind.

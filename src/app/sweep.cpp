@@ -424,11 +424,7 @@ class ConsoleTo {
 // (on every rank alike) unless MPI was started with a multiple of G ranks.
 void form_groups(const SweepArgs& a) {
   const int g = a.ranks_per_case;
-  if (a.jobs > 1) throw UserError("--ranks-per-case and --jobs: give one of them");
-  if (a.slurm || a.summary || a.only_case >= 0)
-    throw UserError(
-        "--ranks-per-case runs the sweep under mpirun; not with --slurm, --summary "
-        "or --case");
+  check_sweep_args(a, 1);
   if (!parallel::built_with_mpi())
     throw UserError("--ranks-per-case " + std::to_string(g) +
                     ": this capflow was built without MPI (install libopenmpi-dev and rebuild)");
@@ -460,10 +456,7 @@ int run_sweep(const SweepArgs& a) {
   if (a.only_case >= n)
     throw UserError("--case " + std::to_string(a.only_case) + ": the sweep has cases 0 to " +
                     std::to_string(n - 1));
-  if (a.overwrite && (a.ranks_per_case > 1 || launcher_share().size > 1 || a.only_case >= 0))
-    throw UserError(
-        "--overwrite starts the sweep afresh: give it to one process (not under mpirun, srun or a "
-        "Slurm array task), then run the sweep's ranks without it");
+  check_sweep_args(a, launcher_share().size);
   if (a.only_case < 0 && !a.summary) prepare_sweep_directory(plan, a.overwrite);
   write_case_files(plan);
   if (a.slurm) {

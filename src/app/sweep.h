@@ -37,17 +37,9 @@
 
 #include <string>
 
-namespace capflow::app {
+#include "app/sweep_args.h"
 
-struct SweepArgs {
-  std::string file;        // the sweep file
-  int only_case = -1;      // >= 0: run this case only, leave sweep.csv alone (Slurm array tasks)
-  bool slurm = false;      // write the case files and sweep.sbatch, run nothing
-  bool summary = false;    // rewrite sweep.csv from the case directories, run nothing
-  int jobs = 1;            // cases side by side (each with cores / jobs OpenMP threads)
-  int ranks_per_case = 1;  // > 1: under an MPI launcher, each case runs on a group of this many
-  bool overwrite = false;  // start an existing sweep afresh; allow a non-empty directory
-};
+namespace capflow::app {
 
 // Runs the sweep; returns the exit code (0 every case done, 4 some case failed, 5 an output
 // failure). UserError for a bad sweep file or arguments (exit 2).

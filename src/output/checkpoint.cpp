@@ -102,27 +102,40 @@ void Checkpoint::write(const std::string& path) const {
   }
 }
 
+namespace {
+
+// The first 12 bytes: magic and format version.
+void check_header(const std::string& head, std::size_t size, const std::string& name) {
+  if (head.size() < 8 || std::memcmp(head.data(), kMagic, 8) != 0)
+    throw CheckpointError(name + ": not a capflow checkpoint (wrong magic bytes)");
+  if (head.size() < 12 || size < 8 + 4 + 4 + 4 + 8)
+    throw CheckpointError(name + ": truncated checkpoint (" + std::to_string(size) + " bytes)");
+  uint32_t version;
+  std::memcpy(&version, head.data() + 8, 4);
+  if (version != Checkpoint::kFormatVersion)
+    throw CheckpointError(name + ": checkpoint format version " + std::to_string(version) +
+                          ", this capflow reads version " +
+                          std::to_string(Checkpoint::kFormatVersion));
+}
+
+}  // namespace
+
 Checkpoint Checkpoint::read(const std::string& path) {
-  const std::string name = files::printable(path);
   std::string buf;
   try {
     // The header first: a file that is not a checkpoint is refused without reading its body.
     files::InputFile in(path, "checkpoint", kMaxBytes);
-    const std::string head = in.read_prefix(12);
-    if (head.size() < 8 || std::memcmp(head.data(), kMagic, 8) != 0)
-      throw CheckpointError(name + ": not a capflow checkpoint (wrong magic bytes)");
-    if (head.size() < 12 || in.size() < 8 + 4 + 4 + 4 + 8)
-      throw CheckpointError(name + ": truncated checkpoint (" + std::to_string(in.size()) +
-                            " bytes)");
-    uint32_t version;
-    std::memcpy(&version, head.data() + 8, 4);
-    if (version != kFormatVersion)
-      throw CheckpointError(name + ": checkpoint format version " + std::to_string(version) +
-                            ", this capflow reads version " + std::to_string(kFormatVersion));
+    check_header(in.read_prefix(12), in.size(), files::printable(path));
     buf = in.read_all();
   } catch (const files::InputError& e) {
     throw CheckpointError(e.what());
   }
+  return parse(buf, path);
+}
+
+Checkpoint Checkpoint::parse(const std::string& buf, const std::string& path) {
+  const std::string name = files::printable(path);
+  check_header(buf.substr(0, 12), buf.size(), name);
   if (buf.size() < 8 + 4 + 4 + 4 + 8)
     throw CheckpointError(name + ": truncated checkpoint (" + std::to_string(buf.size()) + " bytes)");
   if (std::memcmp(buf.data() + buf.size() - 8, kEnd, 8) != 0)
@@ -149,13 +162,13 @@ Checkpoint Checkpoint::read(const std::string& path) {
     if (type == 1) {
       c.need(n * sizeof(double));
       std::vector<double> v(n);
-      std::memcpy(v.data(), buf.data() + c.pos, n * sizeof(double));
+      if (n > 0) std::memcpy(v.data(), buf.data() + c.pos, n * sizeof(double));
       c.pos += n * sizeof(double);
       cp.f64_[field] = std::move(v);
     } else if (type == 2) {
       c.need(n * sizeof(int64_t));
       std::vector<int64_t> v(n);
-      std::memcpy(v.data(), buf.data() + c.pos, n * sizeof(int64_t));
+      if (n > 0) std::memcpy(v.data(), buf.data() + c.pos, n * sizeof(int64_t));
       c.pos += n * sizeof(int64_t);
       cp.i64_[field] = std::move(v);
     } else if (type == 3) {

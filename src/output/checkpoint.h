@@ -53,6 +53,8 @@ class Checkpoint {
 
   void write(const std::string& path) const;
   static Checkpoint read(const std::string& path);
+  // The same checks on bytes in memory; `path` names them in messages.
+  static Checkpoint parse(const std::string& bytes, const std::string& path);
 
   std::string source;  // the file read from (for messages)
 

@@ -487,7 +487,10 @@ std::string read_xml(const std::string& path, const char* what, std::size_t max_
 }  // namespace
 
 VtkSurface read_vtp(const std::string& path) {
-  const std::string s = read_xml(path, "ParaView surface", kMaxVtpBytes);
+  return parse_vtp(read_xml(path, "ParaView surface", kMaxVtpBytes), path);
+}
+
+VtkSurface parse_vtp(const std::string& s, const std::string& path) {
 
   VtkSurface out;
   bool header64 = false, saw_file = false, saw_piece = false, have_points = false;
@@ -661,7 +664,10 @@ void PvdCollection::write() const {
 }
 
 std::vector<PvdEntry> PvdCollection::read(const std::string& pvd_path) {
-  const std::string s = read_xml(pvd_path, "ParaView collection", kMaxPvdBytes);
+  return parse(read_xml(pvd_path, "ParaView collection", kMaxPvdBytes), pvd_path);
+}
+
+std::vector<PvdEntry> PvdCollection::parse(const std::string& s, const std::string& pvd_path) {
   std::vector<PvdEntry> out;
   bool collection = false;
   size_t pos = 0;

@@ -80,6 +80,8 @@ void write_vtp(const std::string& path, const VtkSurface& s,
 // Also accepts other uncompressed, inline (ascii or binary) PolyData files with quads,
 // if they carry the "ne" and "n" field arrays. Throws std::runtime_error naming the file.
 VtkSurface read_vtp(const std::string& path);
+// The same on text in memory; `path` names it in messages.
+VtkSurface parse_vtp(const std::string& text, const std::string& path);
 
 struct PvdEntry {
   double time = 0;
@@ -103,6 +105,7 @@ class PvdCollection {
 
   // Parses a .pvd (any DataSet elements with timestep and file attributes), in file order.
   static std::vector<PvdEntry> read(const std::string& pvd_path);
+  static std::vector<PvdEntry> parse(const std::string& text, const std::string& pvd_path);
 
  private:
   void write() const;

@@ -27,22 +27,6 @@ using PFNOSMESAGETPROCADDRESS = void* (*)(const char*);
 
 namespace capflow::render {
 
-const char* backend_name(Backend b) {
-  switch (b) {
-    case Backend::Egl: return "egl";
-    case Backend::OSMesa: return "osmesa";
-    default: return "auto";
-  }
-}
-
-bool parse_backend(const std::string& s, Backend* out) {
-  if (s == "auto") *out = Backend::Auto;
-  else if (s == "egl") *out = Backend::Egl;
-  else if (s == "osmesa") *out = Backend::OSMesa;
-  else return false;
-  return true;
-}
-
 std::string ContextInfo::summary() const {
   return std::string("render: backend ") + backend_name(backend) + ", GL_RENDERER \"" +
          renderer + "\", GL_VERSION \"" + version + "\"";

@@ -120,6 +120,22 @@ bool parse_antialias(const std::string& s, Antialias* out) {
   return false;
 }
 
+const char* backend_name(Backend b) {
+  switch (b) {
+    case Backend::Egl: return "egl";
+    case Backend::OSMesa: return "osmesa";
+    default: return "auto";
+  }
+}
+
+bool parse_backend(const std::string& s, Backend* out) {
+  if (s == "auto") *out = Backend::Auto;
+  else if (s == "egl") *out = Backend::Egl;
+  else if (s == "osmesa") *out = Backend::OSMesa;
+  else return false;
+  return true;
+}
+
 bool parse_view(const std::string& s, View* out) {
   if (s == "oblique")
     *out = View::Oblique;

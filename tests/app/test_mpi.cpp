@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -242,5 +244,73 @@ TEST(Mpi, ASweepRunsEachCaseOnAGroupOfRanks) {
                               d / "log_three", 300),
             2);
   EXPECT_NE(test::read_file(d / "log_three").find("a multiple of 2"), std::string::npos);
+  fs::remove_all(d);
+}
+
+namespace {
+
+// The inodes of the TCP sockets in LISTEN state (/proc/net/tcp and tcp6, state 0A).
+std::set<std::string> listening_inodes() {
+  std::set<std::string> out;
+  for (const char* table : {"/proc/net/tcp", "/proc/net/tcp6"}) {
+    const std::vector<std::string> lines = test::lines_of(table);
+    for (size_t i = 1; i < lines.size(); ++i) {
+      std::stringstream s(lines[i]);
+      std::vector<std::string> f;
+      for (std::string w; s >> w;) f.push_back(w);
+      if (f.size() > 9 && f[3] == "0A") out.insert(f[9]);
+    }
+  }
+  return out;
+}
+
+// The socket inodes a process holds.
+std::set<std::string> socket_inodes(pid_t pid) {
+  std::set<std::string> out;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator("/proc/" + std::to_string(pid) + "/fd", ec)) {
+    const std::string link = fs::read_symlink(e.path(), ec).string();
+    if (link.rfind("socket:[", 0) == 0) out.insert(link.substr(8, link.size() - 9));
+  }
+  return out;
+}
+
+// The capflow processes whose command line names `dir`.
+std::vector<pid_t> capflow_ranks(const fs::path& dir) {
+  std::vector<pid_t> out;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator("/proc", ec)) {
+    const std::string name = e.path().filename().string();
+    if (name.find_first_not_of("0123456789") != std::string::npos) continue;
+    std::string cmd = test::read_file(e.path() / "cmdline");
+    std::replace(cmd.begin(), cmd.end(), '\0', ' ');
+    if (cmd.rfind(CAPFLOW_EXE, 0) == 0 && cmd.find(dir.string()) != std::string::npos)
+      out.push_back(static_cast<pid_t>(std::stol(name)));
+  }
+  return out;
+}
+
+}  // namespace
+
+// Under mpirun the ranks listened on TCP on every interface (Open MPI's tcp transport). A job
+// whose ranks all run on one node uses shared memory only: its ranks hold no listening socket.
+TEST(Mpi, TheRanksOfASingleNodeJobOpenNoTcpListener) {
+  if (!have_mpirun()) GTEST_SKIP() << "no MPI build or no mpirun (scripts/setup installs them)";
+  const fs::path d = test::fresh_dir("mpi_tcp");
+  const fs::path ctl = d / "run.json", run = d / "run";
+  test::write_file(ctl, run_control("1000"));
+  const pid_t pid = test::spawn(mpirun(2, {"run", ctl.string(), "-o", run.string()}), d / "log");
+  ASSERT_TRUE(test::wait_for([&] { return test::csv_rows(run / "timeseries.csv") >= 3; }, 120))
+      << test::read_file(d / "log");
+  const std::vector<pid_t> ranks = capflow_ranks(run);
+  EXPECT_EQ(ranks.size(), 2u);
+  const std::set<std::string> listening = listening_inodes();
+  for (pid_t r : ranks)
+    for (const std::string& inode : socket_inodes(r))
+      EXPECT_EQ(listening.count(inode), 0u) << "rank process " << r << " listens on TCP";
+  std::string stop = run_control("1000");
+  stop.replace(stop.find("\"output\""), 8, "\"run\": {\"state\": \"stopped\"}, \"output\"");
+  test::write_file(ctl, stop);
+  EXPECT_EQ(test::wait_exit(pid, 120), 0) << test::read_file(d / "log");
   fs::remove_all(d);
 }

@@ -12,6 +12,7 @@
 using capflow::render::ColorRange;
 using capflow::render::RangeMode;
 using capflow::render::round_ticks;
+using capflow::render::fixed_range_problem;
 using capflow::render::tick_step;
 
 namespace {
@@ -128,4 +129,43 @@ TEST(ColorRange, NonFiniteFramesLeaveTheRangeAlone) {
   EXPECT_EQ(r.hi(), hi);
   EXPECT_TRUE(round_ticks(-INFINITY, 1.0).empty());
   EXPECT_TRUE(round_ticks(0.0, std::nan("")).empty());
+}
+
+// Milestone 17: ranges a double cannot resolve. round_ticks used to loop forever on them (k += 1
+// stops changing k at 1e16, an infinite span makes no ticks and retries), which hung a run at
+// its first frame and `capflow render --range`.
+TEST(ColorRange, TicksAlwaysEndAndStayFew) {
+  const double big = 1e16;
+  for (const auto& [lo, hi] : std::vector<std::pair<double, double>>{
+           {big, big + 2},
+           {-1e308, 1e308},
+           {-1e308, -1e307},
+           {0, 1e308},
+           {1e-300, 2e-300},
+           {5e-324, 1e-323},
+           {1e15, 1e15 + 0.5},
+           {-INFINITY, 1},
+           {0, NAN}}) {
+    const std::vector<double> t = round_ticks(lo, hi);
+    EXPECT_LE(t.size(), 1001u) << lo << " " << hi;
+    for (double v : t) EXPECT_TRUE(std::isfinite(v)) << lo << " " << hi;
+  }
+  // unresolvable: the two ends
+  EXPECT_EQ(round_ticks(big, big + 2), (std::vector<double>{big, big + 2}));
+  EXPECT_EQ(round_ticks(-1e308, 1e308), (std::vector<double>{-1e308, 1e308}));
+  // ordinary ranges unchanged
+  EXPECT_EQ(round_ticks(0, 1), (std::vector<double>{0, 1 * 0.2, 2 * 0.2, 3 * 0.2, 4 * 0.2, 5 * 0.2}));
+}
+
+TEST(ColorRange, AFixedRangeMustBeResolvable) {
+  EXPECT_EQ(fixed_range_problem(0, 2), "");
+  EXPECT_EQ(fixed_range_problem(-1e12, 1e12), "");
+  EXPECT_NE(fixed_range_problem(1e16, 1e16 + 2).find("must be finite and within"),
+            std::string::npos);
+  EXPECT_NE(fixed_range_problem(1e11, 1e11 + 1e-3).find("too narrow"), std::string::npos);
+  EXPECT_NE(fixed_range_problem(-1e308, 1e308).find("within +-1e+12"), std::string::npos);
+  EXPECT_NE(fixed_range_problem(1, 1).find("max must exceed min"), std::string::npos);
+  EXPECT_NE(fixed_range_problem(2, 1).find("max must exceed min"), std::string::npos);
+  EXPECT_NE(fixed_range_problem(NAN, 1).find("finite"), std::string::npos);
+  EXPECT_NE(fixed_range_problem(0, 1e-13).find("too narrow"), std::string::npos);
 }
