@@ -1,4 +1,7 @@
 // capflow: spectral boundary element simulation of elastic capsules in Stokes flow.
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <csignal>
 #include <string>
@@ -34,6 +37,16 @@ int main(int argc, char** argv) {
   // A console that goes away (`| head`, a closed ssh pipe) must not end capflow: writes to it fail
   // with EPIPE instead (app/console.h), and runs go on.
   std::signal(SIGPIPE, SIG_IGN);
+  // Started with stdin, stdout or stderr closed, the first files capflow opens would take their
+  // numbers, and console lines would land in them (a run's CSV): they point to /dev/null then.
+  for (int fd = 0; fd <= 2; ++fd)
+    if (::fcntl(fd, F_GETFD) < 0) {
+      const int null = ::open("/dev/null", fd == 0 ? O_RDONLY : O_WRONLY);
+      if (null >= 0 && null != fd) {
+        ::dup2(null, fd);
+        ::close(null);
+      }
+    }
   // A file-size limit makes a write fail (an output failure, exit 5, naming the file) instead of
   // killing the process, for every command.
   std::signal(SIGXFSZ, SIG_IGN);

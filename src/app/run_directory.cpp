@@ -314,6 +314,14 @@ void RunDirectory::write_text(const std::string& name, const std::string& text) 
   }
 }
 
+void RunDirectory::sync() const {
+  try {
+    files::sync_file_system(dir_.string());
+  } catch (const files::WriteError& e) {
+    throw OutputError(e.what());
+  }
+}
+
 fs::path RunDirectory::subdirectory(const std::string& name) const {
   const fs::path p = dir_ / name;
   std::error_code ec;

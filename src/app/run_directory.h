@@ -90,6 +90,8 @@ class RunDirectory {
   void open_records(bool fresh, const std::string& timeseries_header,
                     const std::string& steady_header);
 
+  // Everything written to the run directory's file system on stable storage (OutputError).
+  void sync() const;
   // Replaces <dir>/<name> atomically with `text` (OutputError on failure).
   void write_text(const std::string& name, const std::string& text) const;
   // Creates <dir>/<name>/ (OutputError on failure) and returns its path.

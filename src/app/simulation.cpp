@@ -412,6 +412,9 @@ struct Simulation::Impl {
 
   void write_checkpoint(const std::string& why) {
     if (renderer) renderer->wait_idle();
+    // The rows, frames and movie fragments it counts on stable storage before it is: a disk that
+    // fails (a journal abort, a power cut) never leaves a checkpoint counting what was lost.
+    dir->sync();
     dir->subdirectory("checkpoints");
     const fs::path path = dir->checkpoint_path(cap->step_count());
     const RunCheckpoint state = checkpoint_state();

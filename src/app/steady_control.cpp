@@ -36,12 +36,17 @@ void SteadyControl::watch() {
     if (signal_ && signal_->load()) stop_.store(true);
     if (watcher && watcher->changed()) {
       Saved s;
+      std::string text;
       try {
-        s.parsed = control::load_control_file(path_);
+        text = control::read_control_text(path_);
+        s.parsed = control::parse_control(text, path_);
         if (s.parsed->options.run.state == control::RunState::Stopped) stop_.store(true);
       } catch (const control::ControlError& e) {
         const std::string what = e.what();
         s.error = what.substr(what.find('\n') + 1);
+        // a stop saved with a value the edit refuses is honoured all the same
+        const std::optional<control::RunOptions> run = control::run_keys_of(text);
+        if (run && run->state == control::RunState::Stopped) stop_.store(true);
       }
       std::lock_guard<std::mutex> lock(mutex_);
       saved_.push_back(std::move(s));

@@ -4,7 +4,8 @@
 // watches it (control::FileWatcher, every 0.1 s): each saved version is read and validated
 // there, and
 //   * "run": {"state": "stopped"} (or a stop signal) sets stop() at once: the solvers check it
-//     at every velocity evaluation, the branch ends, the states found are kept;
+//     at every velocity evaluation, the branch ends, the states found are kept - also when the
+//     rest of the saved file is refused (control::run_keys_of);
 //   * everything else waits in take() for the solver thread, which applies it between states
 //     and approach steps (app/steady_run.cpp: the target range, the tolerances, a pause).
 #pragma once

@@ -118,11 +118,18 @@ class SteadyRun {
     if (o.output.dir.empty()) throw UserError("output.dir: give a run directory (or -o DIR)");
     dir_ = RunDirectory::open(
         o.output.dir, overwrite ? RunDirectory::Mode::Overwrite : RunDirectory::Mode::Create);
-    dir_->open_records(true, kTimeseriesHeader, kSteadyHeader);
-    log_ = std::make_unique<RunLog>(*dir_, isatty(STDERR_FILENO));
-    dir_->write_text("control.json", control::to_json_text(opt_));
-    fine_ = make_grid(o);
-    if (!o.start.from.empty()) start_from();
+    try {
+      dir_->open_records(true, kTimeseriesHeader, kSteadyHeader);
+      log_ = std::make_unique<RunLog>(*dir_, isatty(STDERR_FILENO));
+      dir_->write_text("control.json", control::to_json_text(opt_));
+      fine_ = make_grid(o);
+      if (!o.start.from.empty()) start_from();
+    } catch (...) {
+      // A start that failed leaves nothing behind: the same command works once the cause is gone.
+      log_.reset();
+      dir_->abandon();
+      throw;
+    }
   }
 
   SteadySummary run(const std::atomic<bool>* signal) {

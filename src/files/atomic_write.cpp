@@ -47,6 +47,29 @@ void write_atomically(const std::string& path, std::string_view data, AtomicWrit
   }
   if (::close(fd) != 0) fail("close", errno, true);
   if (std::rename(tmp.c_str(), path.c_str()) != 0) fail("rename", errno, true);
+  if (how.sync) {
+    // the rename itself on stable storage: the directory's entry
+    const std::string parent = path.find('/') == std::string::npos
+                                   ? std::string(".")
+                                   : path.substr(0, path.rfind('/') + (path.rfind('/') == 0));
+    const int dfd = ::open(parent.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (dfd >= 0) {
+      const int r = ::fsync(dfd);
+      const int err = errno;
+      ::close(dfd);
+      if (r != 0) fail("fsync of the directory", err, false);
+    }
+  }
+}
+
+void sync_file_system(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0)
+    throw WriteError("cannot write " + printable(path) + " (sync): " + std::strerror(errno));
+  const int r = ::syncfs(fd);
+  const int err = errno;
+  ::close(fd);
+  if (r != 0) throw WriteError("cannot write " + printable(path) + " (sync): " + std::strerror(err));
 }
 
 }  // namespace capflow::files

@@ -4,8 +4,8 @@
 //
 //   temporary   <path>.tmp, or <path>.<pid>.tmp with unique_temp (several processes may write
 //               the same file: the ranks of a sweep)
-//   sync        fsync the temporary file before the rename (checkpoints: the newest must survive
-//               a power cut)
+//   sync        fsync the temporary file before the rename and the directory after it
+//               (checkpoints: the newest must survive a power cut or a journal abort)
 // A failed write (disk full, read-only, a file-size limit, permissions) removes the temporary
 // file and throws WriteError naming `path` and the cause; the old file is left as it was.
 #pragma once
@@ -26,6 +26,10 @@ struct AtomicWrite {
 };
 
 void write_atomically(const std::string& path, std::string_view data, AtomicWrite how = {});
+
+// Everything written to the file system that holds `path` on stable storage (syncfs): what a
+// checkpoint counts is written before it is. WriteError naming `path` on an I/O error.
+void sync_file_system(const std::string& path);
 
 // Writes all of data to fd (retrying short writes and EINTR); false with *err set (errno, or
 // ENOSPC when a write wrote nothing) when it could not.

@@ -332,5 +332,12 @@ TEST(HostileOutputs, OutputFailuresExitFiveNamingTheFile) {
   test::write_file(d / "s.json", R"({"mesh": {"elements": 6, "nb": 6}, "ca": 0.3})");
   o = outcome({"steady", (d / "s.json").string(), "-o", (d / "st").string()}, d, lim);
   EXPECT_EQ(o.code, 5) << o.log;
+  lim.file_size = 100;  // the case control files are larger
+  test::write_file(d / "sw.json", R"({"base": {"ca": 0.3, "mesh": {"elements": 6, "nb": 6},
+      "time": {"t_end": 0.02}}, "vary": {"ca": [0.2, 0.3]}, "output": {"dir": ")" +
+                                      (d / "sw").string() + R"("}})");
+  o = outcome({"sweep", (d / "sw.json").string()}, d, lim);
+  EXPECT_EQ(o.code, 5) << o.log;
+  EXPECT_TRUE(contains(o.log, "case_000.json")) << o.log;
   fs::remove_all(d);
 }
