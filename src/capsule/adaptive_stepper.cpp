@@ -1,8 +1,6 @@
 #include "capsule/adaptive_stepper.h"
 
 #include <arkode/arkode_erkstep.h>
-#include <nvector/nvector_serial.h>
-#include <sundials/sundials_context.h>
 
 #include <algorithm>
 #include <cmath>
@@ -10,13 +8,14 @@
 #include <memory>
 #include <sstream>
 
+#include "capsule/sundials_glue.h"
+
 namespace capflow::capsule {
 
 namespace {
 
-Eigen::Map<Eigen::VectorXd> view(N_Vector v) {
-  return {N_VGetArrayPointer(v), static_cast<Eigen::Index>(N_VGetLength(v))};
-}
+using sundials::view;
+constexpr const char* kSolver = "ARKODE";
 
 // ARKODE's explicit Gustafsson controller (arkAdaptExpGus, imethod 3, default constants AD3_K1,
 // AD3_K2), its error bias (BIAS) and TINY, for the controller below; ERKStep's growth bound of a
@@ -27,9 +26,7 @@ constexpr double kTiny = 1e-10;
 constexpr double kGrowth = 25.0;
 
 void require(int flag, const char* call) {
-  if (flag < 0)
-    throw std::runtime_error(std::string("ARKODE ") + call + " failed (flag " +
-                             std::to_string(flag) + ")");
+  sundials::require(flag, kSolver, call);
 }
 
 }  // namespace
@@ -37,8 +34,8 @@ void require(int flag, const char* call) {
 // The ARKODE objects and what the C callbacks report back.
 struct AdaptiveStepper::Arkode {
   Rhs rhs;
-  SUNContext ctx = nullptr;
-  N_Vector y = nullptr;
+  sundials::Context ctx{kSolver};
+  sundials::Vector y;
   void* mem = nullptr;
   Eigen::VectorXd y_in, dydt;  // the callback's buffers
   Eigen::VectorXd y_now;       // the accepted state at time()
@@ -88,8 +85,6 @@ struct AdaptiveStepper::Arkode {
 
   ~Arkode() {
     if (mem) ERKStepFree(&mem);
-    if (y) N_VDestroy(y);
-    if (ctx) SUNContext_Free(&ctx);
   }
 };
 
@@ -112,7 +107,6 @@ AdaptiveStepper::AdaptiveStepper(Rhs rhs, const AdaptiveOptions& options)
   if (!(options.tolerance >= 1e-12 && options.tolerance <= 1e-1))
     throw std::invalid_argument("AdaptiveStepper: tolerance outside [1e-12, 0.1]");
   ark_->rhs = std::move(rhs);
-  require(SUNContext_Create(nullptr, &ark_->ctx), "SUNContext_Create");
 }
 
 AdaptiveStepper::~AdaptiveStepper() = default;
@@ -134,15 +128,13 @@ void AdaptiveStepper::resume(double t, const Eigen::VectorXd& y, double h, const
 
 void AdaptiveStepper::begin(double t, const Eigen::VectorXd& y, double h) {
   Arkode& a = *ark_;
-  if (!a.y || N_VGetLength(a.y) != y.size()) {
+  if (!a.y.get() || a.y.size() != y.size()) {
     if (a.mem) ERKStepFree(&a.mem);
-    if (a.y) N_VDestroy(a.y);
-    a.y = N_VNew_Serial(y.size(), a.ctx);
-    if (!a.y) throw std::runtime_error("ARKODE: N_VNew_Serial failed");
+    a.y.reset(y.size(), a.ctx, kSolver);
   }
-  view(a.y) = y;
+  a.y.view() = y;
   if (!a.mem) {
-    a.mem = ERKStepCreate(&Arkode::f, t, a.y, a.ctx);
+    a.mem = ERKStepCreate(&Arkode::f, t, a.y.get(), a.ctx.get());
     if (!a.mem) throw std::runtime_error("ARKODE: ERKStepCreate failed");
     require(ERKStepSetErrHandlerFn(a.mem, &Arkode::on_error, &a), "ERKStepSetErrHandlerFn");
     require(ERKStepSetUserData(a.mem, &a), "ERKStepSetUserData");
@@ -160,7 +152,7 @@ void AdaptiveStepper::begin(double t, const Eigen::VectorXd& y, double h) {
   // by kGrowth: a resumed run's new ERKStep object continues with the later bound.
   require(ERKStepSetMaxFirstGrowth(a.mem, a.history.steps > 0 ? kGrowth : 0.0),
           "ERKStepSetMaxFirstGrowth");
-  require(ERKStepReset(a.mem, t, a.y), "ERKStepReset");
+  require(ERKStepReset(a.mem, t, a.y.get()), "ERKStepReset");
   a.y_now = y;
   t_ = t;
   h_pending_ = h;  // next_step() until a step is taken
@@ -182,7 +174,7 @@ AdaptiveStepper::Step AdaptiveStepper::step(double t_stop, const Finish& finish,
     a.message.clear();
     const long evals_before = a.evals;
     realtype t_reached = t0;
-    const int flag = ERKStepEvolve(a.mem, t_stop, a.y, &t_reached, ARK_ONE_STEP);
+    const int flag = ERKStepEvolve(a.mem, t_stop, a.y.get(), &t_reached, ARK_ONE_STEP);
     rhs_evals_ += a.evals - evals_before;
     ERKStepGetNumErrTestFails(a.mem, &fails_after);
     s.error_rejections += static_cast<int>(fails_after - fails_before);
@@ -192,7 +184,7 @@ AdaptiveStepper::Step AdaptiveStepper::step(double t_stop, const Finish& finish,
       why = a.rhs_error.empty() ? "the integrator failed (" + failure_text(flag, a.message) + ")"
                                 : "the velocity evaluation failed: " + a.rhs_error;
     } else {
-      *y = view(a.y);
+      *y = a.y.view();
       if (finish) {
         const Eigen::VectorXd before = *y;
         finish(y);

@@ -1,33 +1,25 @@
 #include "capsule/gmres.h"
 
-#include <nvector/nvector_serial.h>
-#include <sundials/sundials_context.h>
-#include <sundials/sundials_linearsolver.h>
-#include <sunlinsol/sunlinsol_spgmr.h>
-
 #include <exception>
+#include <memory>
 #include <stdexcept>
 #include <string>
+
+#include "capsule/sundials_glue.h"
 
 namespace capflow::capsule {
 
 namespace {
-Eigen::Map<Eigen::VectorXd> view(N_Vector v) {
-  return {N_VGetArrayPointer(v), static_cast<Eigen::Index>(N_VGetLength(v))};
-}
-void require(int flag, const char* call) {
-  if (flag != 0)
-    throw std::runtime_error(std::string("GMRES: ") + call + " failed (flag " +
-                             std::to_string(flag) + ")");
-}
+using sundials::view;
+constexpr const char* kSolver = "GMRES:";
 }  // namespace
 
 struct Gmres::Impl {
   int n = 0;
   GmresOptions opt;
-  SUNContext ctx = nullptr;
-  N_Vector x = nullptr, b = nullptr;
-  SUNLinearSolver ls = nullptr;
+  sundials::Context ctx{kSolver};
+  sundials::Vector x, b;
+  std::unique_ptr<sundials::Spgmr> ls;
   const Operator* op = nullptr;
   std::exception_ptr error;  // an exception of the operator, rethrown after SPGMR returns
   Eigen::VectorXd v, out;
@@ -45,12 +37,6 @@ struct Gmres::Impl {
       return -1;  // unrecoverable: SPGMR returns
     }
   }
-  ~Impl() {
-    if (ls) SUNLinSolFree(ls);
-    if (x) N_VDestroy(x);
-    if (b) N_VDestroy(b);
-    if (ctx) SUNContext_Free(&ctx);
-  }
 };
 
 Gmres::Gmres(int n, GmresOptions options) : impl_(std::make_unique<Impl>()) {
@@ -60,16 +46,14 @@ Gmres::Gmres(int n, GmresOptions options) : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
   m.n = n;
   m.opt = options;
-  require(SUNContext_Create(nullptr, &m.ctx), "SUNContext_Create");
-  m.x = N_VNew_Serial(n, m.ctx);
-  m.b = N_VNew_Serial(n, m.ctx);
-  if (!m.x || !m.b) throw std::runtime_error("GMRES: N_VNew_Serial failed");
-  m.ls = SUNLinSol_SPGMR(m.x, SUN_PREC_NONE, options.max_krylov, m.ctx);
-  if (!m.ls) throw std::runtime_error("GMRES: SUNLinSol_SPGMR failed");
-  require(SUNLinSol_SPGMRSetMaxRestarts(m.ls, options.max_restarts), "SetMaxRestarts");
-  require(SUNLinSolSetATimes(m.ls, &m, &Impl::atimes), "SetATimes");
-  require(SUNLinSolInitialize(m.ls), "Initialize");
-  require(SUNLinSolSetup(m.ls, nullptr), "Setup");
+  m.x.reset(n, m.ctx, kSolver);
+  m.b.reset(n, m.ctx, kSolver);
+  m.ls = std::make_unique<sundials::Spgmr>(m.x, options.max_krylov, options.max_restarts, m.ctx,
+                                           kSolver);
+  SUNLinearSolver ls = m.ls->get();
+  sundials::require(SUNLinSolSetATimes(ls, &m, &Impl::atimes), kSolver, "SetATimes");
+  sundials::require(SUNLinSolInitialize(ls), kSolver, "Initialize");
+  sundials::require(SUNLinSolSetup(ls, nullptr), kSolver, "Setup");
 }
 
 Gmres::~Gmres() = default;
@@ -88,18 +72,19 @@ GmresResult Gmres::solve(const Operator& A, const Eigen::VectorXd& b, Eigen::Vec
     r.converged = true;
     return r;
   }
-  view(m.b) = b;
-  view(m.x) = *y;
+  m.b.view() = b;
+  m.x.view() = *y;
+  SUNLinearSolver ls = m.ls->get();
   m.op = &A;
   m.error = nullptr;
-  require(SUNLinSolSetZeroGuess(m.ls, SUNFALSE), "SetZeroGuess");
+  sundials::require(SUNLinSolSetZeroGuess(ls, SUNFALSE), kSolver, "SetZeroGuess");
   // SPGMR stops at ||b - A x||_2 < delta (unit scaling vectors).
-  const int flag = SUNLinSolSolve(m.ls, nullptr, m.x, m.b, m.opt.tolerance * bnorm);
+  const int flag = SUNLinSolSolve(ls, nullptr, m.x.get(), m.b.get(), m.opt.tolerance * bnorm);
   m.op = nullptr;
   if (m.error) std::rethrow_exception(m.error);
-  *y = view(m.x);
-  r.iterations = SUNLinSolNumIters(m.ls);
-  r.residual = SUNLinSolResNorm(m.ls) / bnorm;
+  *y = m.x.view();
+  r.iterations = SUNLinSolNumIters(ls);
+  r.residual = SUNLinSolResNorm(ls) / bnorm;
   r.converged = flag == SUNLS_SUCCESS;
   if (flag < 0 || (flag > 0 && flag != SUNLS_RES_REDUCED && flag != SUNLS_CONV_FAIL))
     throw std::runtime_error("GMRES: SPGMR failed (flag " + std::to_string(flag) + ")");

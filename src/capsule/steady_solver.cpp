@@ -2,21 +2,20 @@
 
 #include <kinsol/kinsol.h>
 #include <kinsol/kinsol_ls.h>
-#include <nvector/nvector_serial.h>
-#include <sundials/sundials_context.h>
-#include <sunlinsol/sunlinsol_spgmr.h>
 
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <stdexcept>
+
+#include "capsule/sundials_glue.h"
 
 namespace capflow::capsule {
 
 namespace {
 
-Eigen::Map<Eigen::VectorXd> view(N_Vector v) {
-  return {N_VGetArrayPointer(v), static_cast<Eigen::Index>(N_VGetLength(v))};
-}
+using sundials::view;
+constexpr const char* kSolver = "KINSOL";
 
 // The fixed-point residual of the midpoint step map on the reduced node set.
 class StepMap {
@@ -86,9 +85,9 @@ class System {
 };
 
 struct Kinsol {
-  SUNContext ctx = nullptr;
-  N_Vector y = nullptr, scale = nullptr;
-  SUNLinearSolver ls = nullptr;
+  sundials::Context ctx{kSolver};
+  sundials::Vector y, scale;
+  std::unique_ptr<sundials::Spgmr> ls;
   void* mem = nullptr;
   const System* system = nullptr;
   const std::atomic<bool>* stop = nullptr;
@@ -113,17 +112,11 @@ struct Kinsol {
   }
   ~Kinsol() {
     if (mem) KINFree(&mem);
-    if (ls) SUNLinSolFree(ls);
-    if (y) N_VDestroy(y);
-    if (scale) N_VDestroy(scale);
-    if (ctx) SUNContext_Free(&ctx);
   }
 };
 
 void require(int flag, const char* call) {
-  if (flag < 0)
-    throw std::runtime_error(std::string("KINSOL ") + call + " failed (flag " +
-                             std::to_string(flag) + ")");
+  sundials::require(flag, kSolver, call);
 }
 
 // KINSOL's own sentence for its return flag.
@@ -172,15 +165,13 @@ SteadySolution solve(const Capsule& cap, const StepMap& map, const System& syste
   Kinsol k;
   k.system = &system;
   k.stop = o.stop;
-  require(SUNContext_Create(nullptr, &k.ctx), "SUNContext_Create");
-  k.y = N_VNew_Serial(z0.size(), k.ctx);
-  k.scale = N_VNew_Serial(z0.size(), k.ctx);
-  if (!k.y || !k.scale) throw std::runtime_error("KINSOL: N_VNew_Serial failed");
-  view(k.y) = z0;
-  N_VConst(1.0, k.scale);
-  k.mem = KINCreate(k.ctx);
+  k.y.reset(z0.size(), k.ctx, kSolver);
+  k.scale.reset(z0.size(), k.ctx, kSolver);
+  k.y.view() = z0;
+  k.scale.view().setOnes();
+  k.mem = KINCreate(k.ctx.get());
   if (!k.mem) throw std::runtime_error("KINSOL: KINCreate failed");
-  require(KINInit(k.mem, &Kinsol::f, k.y), "KINInit");
+  require(KINInit(k.mem, &Kinsol::f, k.y.get()), "KINInit");
   require(KINSetUserData(k.mem, &k), "KINSetUserData");
   require(KINSetErrHandlerFn(k.mem, &Kinsol::on_error, &k), "KINSetErrHandlerFn");
   require(KINSetPrintLevel(k.mem, 0), "KINSetPrintLevel");
@@ -188,19 +179,17 @@ SteadySolution solve(const Capsule& cap, const StepMap& map, const System& syste
   require(KINSetScaledStepTol(k.mem, 1e-14), "KINSetScaledStepTol");
   require(KINSetNumMaxIters(k.mem, o.max_newton), "KINSetNumMaxIters");
   require(KINSetMaxSetupCalls(k.mem, 1), "KINSetMaxSetupCalls");
-  k.ls = SUNLinSol_SPGMR(k.y, SUN_PREC_NONE, o.max_krylov, k.ctx);
-  if (!k.ls) throw std::runtime_error("KINSOL: SUNLinSol_SPGMR failed");
-  require(SUNLinSol_SPGMRSetMaxRestarts(k.ls, 1), "SUNLinSol_SPGMRSetMaxRestarts");
-  require(KINSetLinearSolver(k.mem, k.ls, nullptr), "KINSetLinearSolver");
+  k.ls = std::make_unique<sundials::Spgmr>(k.y, o.max_krylov, 1, k.ctx, kSolver);
+  require(KINSetLinearSolver(k.mem, k.ls->get(), nullptr), "KINSetLinearSolver");
 
-  const int flag = KINSol(k.mem, k.y, KIN_LINESEARCH, k.scale, k.scale);
+  const int flag = KINSol(k.mem, k.y.get(), KIN_LINESEARCH, k.scale.get(), k.scale.get());
   SteadySolution s;
   long nni = 0, nli = 0;
   KINGetNumNonlinSolvIters(k.mem, &nni);
   KINGetNumLinIters(k.mem, &nli);
   s.newton = static_cast<int>(nni);
   s.krylov = nli;
-  const Eigen::VectorXd z = view(k.y);
+  const Eigen::VectorXd z = k.y.view();
   s.ca = system.ca(z);
   s.x = map.expand(system.shape(z));
   if (s.ca > 0) {
