@@ -188,6 +188,9 @@ struct NodeExpansion {
   std::vector<Eigen::Vector3d> sign;  // per local node
 };
 
+template <Mode M>
+class OperatorCall;  // stokes/operator_call.h: one application
+
 class BoundaryOperators {
  public:
   BoundaryOperators(const geometry::Mesh& mesh, QuadratureOptions options = {});
@@ -247,6 +250,9 @@ class BoundaryOperators {
   using Mode = stokes::Mode;
 
  private:
+  template <Mode>
+  friend class OperatorCall;
+  // One application of mode M (stokes/operator_call.h).
   template <Mode M>
   OperatorStats apply(const Matrix3Xd& x, const Matrix3Xd* dens,
                       const std::vector<int>* node_targets, const Matrix3Xd* point_targets,
