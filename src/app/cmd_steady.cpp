@@ -24,12 +24,7 @@ struct SteadyArgs {
 };
 
 void steady_cmd(const SteadyArgs& a) {
-  control::ParsedControl parsed;
-  try {
-    parsed = control::load_control_file(a.control);
-  } catch (const control::ControlError& e) {
-    throw UserError(e.what());
-  }
+  control::ParsedControl parsed = control::load_control_file(a.control);  // exit 2 when bad
   const SteadyControlFile live{a.control, parsed.options};
   if (!a.output_dir.empty()) parsed.options.output.dir = a.output_dir;
   for (const auto& w : parsed.warnings)

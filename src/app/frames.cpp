@@ -1,5 +1,7 @@
 #include "app/frames.h"
 
+#include <cstdio>
+
 #include "app/cpu_budget.h"
 #include "app/errors.h"
 #include "membrane/membrane.h"
@@ -42,6 +44,23 @@ std::unique_ptr<render::RenderThread> start_renderer(const control::ControlOptio
   say(std::string("render: while a frame is pending the solver leaves the renderer a core") +
       (renice ? " and its idle threads wait at nice 19" : ""));
   return renderer;
+}
+
+std::string render_report(const render::RenderStats& rs) {
+  std::string r = "renderer: " + std::to_string(rs.movie_frames) +
+                  " movie frames written, solver waited " + std::to_string(rs.producer_waits) +
+                  " times for the renderer";
+  if (rs.movie_frames > 0) {
+    const double n = static_cast<double>(rs.movie_frames);
+    char b[200];
+    std::snprintf(b, sizeof b,
+                  "; ms per frame: upsample %.1f, draw %.1f, overlay %.1f, readback %.1f, "
+                  "PNG %.1f, encode %.1f",
+                  rs.total.upsample_ms / n, rs.total.draw_ms / n, rs.total.overlay_ms / n,
+                  rs.total.readback_ms / n, rs.png_ms / n, rs.encode_ms / n);
+    r += b;
+  }
+  return r;
 }
 
 render::Snapshot state_snapshot(const capsule::Capsule& cap, const Eigen::Matrix3Xd& x, double time,

@@ -25,6 +25,9 @@ std::unique_ptr<render::RenderThread> start_renderer(const control::ControlOptio
                                                      const std::string& movie_name, bool frames,
                                                      std::function<void(const std::string&)> say);
 
+// "renderer: N movie frames written, solver waited M times for the renderer; ms per frame: ..."
+std::string render_report(const render::RenderStats& stats);
+
 // The plain data the renderer draws: positions x on cap's mesh, the principal tensions there,
 // the time, Ca and the diagnostics shown in the overlay.
 render::Snapshot state_snapshot(const capsule::Capsule& cap, const Eigen::Matrix3Xd& x, double time,

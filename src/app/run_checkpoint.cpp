@@ -39,6 +39,10 @@ RunCheckpoint decode(const output::Checkpoint& c) {
   s.control_file = c.has("control_file") ? c.text("control_file") : s.control;
   try {
     s.options = control::parse_control(s.control, p + " (stored control)").options;
+    s.file_options = c.has("control_file")
+                         ? control::parse_control(s.control_file, p + " (stored control file)")
+                               .options
+                         : s.options;
   } catch (const control::ControlError& e) {
     throw output::CheckpointError(e.what());
   }

@@ -37,6 +37,7 @@ struct RunCheckpoint {
   std::string control;              // effective control file (JSON text)
   std::string control_file;         // the watched file's content as last read (JSON text)
   control::ControlOptions options;  // `control`, parsed (read_run_checkpoint)
+  control::ControlOptions file_options;  // `control_file`, parsed (the base of live edits)
   std::shared_ptr<const geometry::Mesh> mesh;  // the mesh of `x` (read_run_checkpoint)
   Eigen::Matrix3Xd x;
   double t = 0;

@@ -30,12 +30,7 @@ std::unique_ptr<Simulation> resume_run(const RunArgs& a) {
 std::unique_ptr<Simulation> new_run(const RunArgs& a) {
   if (a.control.empty())
     throw UserError("give a control file (capflow run CONTROL.json) or --resume RUN_DIR");
-  control::ParsedControl parsed;
-  try {
-    parsed = control::load_control_file(a.control);
-  } catch (const control::ControlError& e) {
-    throw UserError(e.what());
-  }
+  control::ParsedControl parsed = control::load_control_file(a.control);  // exit 2 when bad
   NewRun run{parsed.options, parsed.options, a.control, a.overwrite};
   if (!a.output_dir.empty()) run.options.output.dir = a.output_dir;
   if (a.t_end > 0) {

@@ -15,10 +15,28 @@ std::string text_of(const std::optional<json>& v) {
 const char* const kFrozenReason =
     "cannot change while the run goes on (restart the run to change it)";
 
+std::string not_for(Command c) {
+  return std::string("capflow ") + command_name(c) + " does not use it";
+}
+
 }  // namespace
 
+const char* outcome_name(EditOutcome o) {
+  switch (o) {
+    case EditOutcome::Applied:
+      return "applied";
+    case EditOutcome::Frozen:
+      return "frozen";
+    case EditOutcome::NotForCommand:
+      return "not_for_command";
+    case EditOutcome::Invalid:
+      return "invalid";
+  }
+  return "";
+}
+
 EditResult apply_edit(const ControlOptions& effective, const ControlOptions& previous,
-                      const ControlOptions& edited) {
+                      const ControlOptions& edited, const EditPolicy& policy) {
   EditResult r;
   r.merged = effective;
   for (const schema::Field& f : schema::fields()) {
@@ -26,9 +44,20 @@ EditResult apply_edit(const ControlOptions& effective, const ControlOptions& pre
     if (before == after) continue;
     const std::string now = text_of(f.write(effective));
     if (now == after) continue;  // back to (or already at) the run's value
-    OptionChange c{f.info.path, now, after, ""};
+    OptionChange c{f.info.path, now, after, EditOutcome::Applied, ""};
     if (f.info.mutability == Mutability::Frozen || !f.copy) {
+      c.outcome = EditOutcome::Frozen;
       c.reason = kFrozenReason;
+    } else if (!f.info.live_for(policy.command)) {
+      c.outcome = EditOutcome::NotForCommand;
+      c.reason = not_for(policy.command);
+    } else if (policy.veto) {
+      ControlOptions with = r.merged;
+      f.copy(with, edited);
+      c.reason = policy.veto(c, with);
+      if (!c.reason.empty()) c.outcome = EditOutcome::Invalid;
+    }
+    if (c.outcome != EditOutcome::Applied) {
       r.refused.push_back(c);
       continue;
     }
@@ -42,20 +71,23 @@ EditResult apply_edit(const ControlOptions& effective, const ControlOptions& pre
     const bool before = g.toggle(previous), after = g.toggle(edited), now = g.toggle(effective);
     if (before == after || now == after) continue;
     // Toggle groups are frozen (output.mp4).
-    r.refused.push_back({g.path, now ? "true" : "false", after ? "true" : "false", kFrozenReason});
+    r.refused.push_back({g.path, now ? "true" : "false", after ? "true" : "false",
+                         EditOutcome::Frozen, kFrozenReason});
   }
   return r;
 }
 
-Record change_record(const OptionChange& c, const std::string& reason) {
-  Record r;
-  r.set_json("old", c.old_value).set_json("new", c.new_value);
-  if (!reason.empty()) r.set("reason", reason);
-  return r;
+EditResult apply_edit(const ControlOptions& effective, const ControlOptions& edited,
+                      const EditPolicy& policy) {
+  return apply_edit(effective, effective, edited, policy);
 }
 
-EditResult apply_edit(const ControlOptions& effective, const ControlOptions& edited) {
-  return apply_edit(effective, effective, edited);
+Record change_record(const OptionChange& c) {
+  Record r;
+  r.set_json("old", c.old_value).set_json("new", c.new_value);
+  if (c.outcome != EditOutcome::Applied)
+    r.set("refused", outcome_name(c.outcome)).set("reason", c.reason);
+  return r;
 }
 
 }  // namespace capflow::control

@@ -1,9 +1,9 @@
 // capflow/control/options: the typed, validated content of a control file.
 //
-// Every field documents its JSON key, default, unit and valid range. These structs are plain
-// data: only src/control/control_file.cpp fills them from JSON (nothing else parses JSON).
-// Units: lengths in the capsule radius a, time in 1/G (G the shear or extension rate),
-// tensions in Gs, Ca = mu G a / Gs.
+// Each option is documented once, in the schema table (control/schema.cpp): its type, valid
+// range, default, unit, edit policy and meaning, from which docs/control.md is generated. The
+// comments here only name each field's JSON key. These structs are plain data: only
+// src/control/control_file.cpp fills them from JSON (nothing else parses JSON).
 #pragma once
 
 #include <optional>
@@ -19,12 +19,9 @@
 namespace capflow::control {
 
 struct MeshOptions {
-  int elements = 10;  // "mesh.elements": 6 | 10 | 14 (paper fig. 1)
-  int nb = 12;        // "mesh.nb": Gauss-Lobatto nodes per element direction, 4..24
-  // "mesh.division": "cube" (the faces of the cube split in equal angles) | "box" (the paper's
-  // parallelepiped of unit-square faces: NE=10 on a 2:1:1 box, NE=14 on 1:3:1) | "diagonal"
-  // (NE=6 only: the cube turned 45 degrees about z, the +-x and +-y tips on element edges;
-  // geometry/mesh.h). Default: default_division(elements, flow type).
+  int elements = 10;  // "mesh.elements"
+  int nb = 12;        // "mesh.nb"
+  // "mesh.division" (geometry/mesh.h); when absent, default_division(elements, flow type)
   geometry::Division division = geometry::Division::Cube;
 };
 
@@ -48,26 +45,16 @@ inline const char* division_name(geometry::Division d) {
                                              : "cube";
 }
 
-// "start": the initial shape (default: the unstressed reference sphere at t = 0).
 struct StartOptions {
-  std::string from;            // "start.from": a run directory (its newest checkpoint) or a
-                               // .ckpt file; its shape is resampled spectrally onto this run's
-                               // mesh (geometry::resample_surface), which may differ in NB and
-                               // elements; the run goes on from the checkpoint's time t, with its
-                               // Ca schedule starting at t. "" = the reference sphere.
-  bool restore_volume = true;  // "start.restore_volume": scale the resampled shape about its
-                               // centroid to the reference volume (removes the source run's
-                               // volume drift and the resampling error), so that volume_drift
-                               // stays relative to the unstressed sphere
+  std::string from;            // "start.from" ("" = the reference sphere at rest)
+  bool restore_volume = true;  // "start.restore_volume"
 };
 
 struct TimeOptions {
-  // "time.dt": "auto" (adaptive steps with local error control, capsule/adaptive_stepper.h) or
-  // a number: the fixed RK4 step, [1e-6, 0.1]; stable for dt < O(Ca dx_min).
-  bool adaptive = true;
-  double dt = 1e-3;         // the fixed step (used when !adaptive)
-  double tolerance = 1e-6;  // "time.tolerance": local error tolerance of the adaptive steps
-  double t_end = 20;        // "time.t_end": simulated end time, (0, 1e6]
+  bool adaptive = true;     // "time.dt": "auto"
+  double dt = 1e-3;         // "time.dt": a number (used when !adaptive)
+  double tolerance = 1e-6;  // "time.tolerance"
+  double t_end = 20;        // "time.t_end"
 };
 
 // One segment of a Ca schedule (the "ca" key as a list):
@@ -110,75 +97,59 @@ struct CaSchedule {
 };
 
 struct SteadyOptions {
-  double tolerance = 1e-4;  // "steady.tolerance": max |dL/dt|, |dS/dt|, |dW/dt|, (0, 1]
-  double window = 0.5;      // "steady.window": time over which the rates are measured, (0, 100]
-  double min_hold = 1.0;    // "steady.min_hold": minimum time at a Ca level before a steady state
-                            // may be declared, [0, 1e4]
-  bool stop = false;        // "steady.stop": end the run at the steady state of the final level
-                            // (after the last schedule segment; a constant "ca" has only that)
-  double solve_tolerance = 1e-7;  // "steady.solve_tolerance": capflow steady's residual, max
-                                  // |F| (node velocity, a G) at a root, [1e-12, 1e-3]
+  double tolerance = 1e-4;        // "steady.tolerance"
+  double window = 0.5;            // "steady.window"
+  double min_hold = 1.0;          // "steady.min_hold"
+  bool stop = false;              // "steady.stop"
+  double solve_tolerance = 1e-7;  // "steady.solve_tolerance"
 };
 
 struct Mp4Options {
-  bool enabled = true;  // "output.mp4": false or an object; true = defaults
-  int fps = 30;         // "output.mp4.fps": 1..240
-  int quality = 23;     // "output.mp4.quality": x264 CRF, 0 (lossless) .. 51 (worst)
+  bool enabled = true;  // "output.mp4": false, true or an object
+  int fps = 30;         // "output.mp4.fps"
+  int quality = 23;     // "output.mp4.quality"
 };
 
 struct OutputOptions {
-  std::string dir = "runs/capflow";  // "output.dir": run directory (created)
-  double csv_every = 0.01;           // "output.csv_every": timeseries.csv cadence (sim. time), > 0
-  double frame_every = 0.0;          // "output.frame_every": movie/PNG frame cadence, 0 = none
-  bool png = true;                   // "output.png": write frames/frame_NNNNNN.png
+  std::string dir = "runs/capflow";  // "output.dir"
+  double csv_every = 0.01;           // "output.csv_every"
+  double frame_every = 0.0;          // "output.frame_every"
+  bool png = true;                   // "output.png"
   Mp4Options mp4;                    // "output.mp4"
-  double checkpoint_every = 0.0;     // "output.checkpoint_every": 0 = only at the end
-  double vtk_every = 0.0;  // "output.vtk_every": ParaView surface_NNNNNN.vtp + surface.pvd
-                           // cadence (simulated time), 0 = none
-  int vtk_points = 25;     // "output.vtk_points": ParaView surface points per element edge (the
-                        // interpolant at n Gauss-Lobatto points, app/surface_export.h); 0 = nodes
+  double checkpoint_every = 0.0;     // "output.checkpoint_every"
+  double vtk_every = 0.0;            // "output.vtk_every"
+  int vtk_points = 25;               // "output.vtk_points"
 };
 
 struct NumericsOptions {
-  bool smoothing = true;           // "numerics.smoothing": paper's first-order smoothing
-  bool volume_correction = false;  // "numerics.volume_correction": paper eq. 23
-  bool symmetry = true;            // "numerics.symmetry": use the flow's symmetries
-  int threads = 0;                 // "numerics.threads": OpenMP threads, 0 = all cores
-  // "numerics.quadrature_scale": every quadrature order of the boundary integral (far, mid, own,
-  // near) times this factor, for accuracy checks of a result against its quadrature (time per
-  // velocity evaluation grows about as its square)
-  double quadrature_scale = 1.0;
+  bool smoothing = true;           // "numerics.smoothing"
+  bool volume_correction = false;  // "numerics.volume_correction"
+  bool symmetry = true;            // "numerics.symmetry"
+  int threads = 0;                 // "numerics.threads"
+  double quadrature_scale = 1.0;   // "numerics.quadrature_scale"
 };
 
 enum class RunState { Running, Paused, Stopped };
 
 struct RunOptions {
-  RunState state = RunState::Running;  // "run.state": "running" | "paused" | "stopped"
-  bool checkpoint_now = false;         // "run.checkpoint_now": write a checkpoint once
+  RunState state = RunState::Running;  // "run.state"
+  bool checkpoint_now = false;         // "run.checkpoint_now"
 };
 
-// "render": how frames look (the renderer's own typed options; output paths are set by the run):
-//   width, height (even, 16..7680), view ("oblique" | "xy" | "xz" | "yz"), orthographic (bool),
-//   field ("max-tension" | "min-tension" | "mean-tension" | "plain"), colormap ("viridis" |
-//   "coolwarm"), range ("auto" or [min, max]), element_lines (bool), overlay {"colorbar": bool,
-//   "text": bool}, backend ("auto" | "egl" | "osmesa"), msaa (0..16), preview (bool: keep
-//   preview.png in the run directory up to date without ever blocking the solver).
-
 struct ControlOptions {
-  std::string description;       // "description": free text, logged (optional)
+  std::string description;       // "description"
   membrane::LawOptions law;      // "capsule.law", "capsule.C", "capsule.psi"
-  double viscosity_ratio = 1.0;  // "capsule.viscosity_ratio": lambda, (0, 100]
-  MeshOptions mesh;
-  StartOptions start;  // "start"
-  capsule::Flow flow;  // "flow.type": "planar-extension" | "simple-shear" |
-                       // "custom" (with "flow.gradient": G, u = G x)
-  TimeOptions time;
-  CaSchedule ca;  // "ca": number or list of segments
-  SteadyOptions steady;
-  OutputOptions output;
-  NumericsOptions numerics;
-  render::RenderOptions render;  // "render"
-  RunOptions run;
+  double viscosity_ratio = 1.0;  // "capsule.viscosity_ratio"
+  MeshOptions mesh;              // "mesh"
+  StartOptions start;            // "start"
+  capsule::Flow flow;            // "flow.type", "flow.gradient"
+  TimeOptions time;              // "time"
+  CaSchedule ca;                 // "ca"
+  SteadyOptions steady;          // "steady"
+  OutputOptions output;          // "output"
+  NumericsOptions numerics;      // "numerics"
+  render::RenderOptions render;  // "render.*" (the renderer's own typed options)
+  RunOptions run;                // "run"
 };
 
 }  // namespace capflow::control

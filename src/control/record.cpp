@@ -44,6 +44,11 @@ Record& Record::set(const std::string& key, const Record& object) {
   return put(key, object.text());
 }
 
+Record& Record::merge(const Record& other) {
+  for (const auto& [k, v] : other.fields_) put(k, v);
+  return *this;
+}
+
 Record& Record::set_json(const std::string& key, const std::string& json_text) {
   const ordered v = ordered::parse(json_text, nullptr, /*allow_exceptions=*/false);
   if (v.is_discarded()) return set(key, json_text);

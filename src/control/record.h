@@ -34,6 +34,9 @@ class Record {
   // a string instead).
   Record& set_json(const std::string& key, const std::string& json_text);
 
+  // Every field of `other` set here (in its order).
+  Record& merge(const Record& other);
+
   bool empty() const { return fields_.empty(); }
   // One line of JSON (compact), or indented by `indent` spaces per level when indent >= 0.
   std::string text(int indent = -1) const;

@@ -96,6 +96,37 @@ std::vector<double> schedule_levels(const CaSchedule& sched, double start) {
   return out;
 }
 
+std::vector<double> levels_to_come(const std::vector<double>& levels, size_t done,
+                                   const std::vector<double>& next) {
+  done = std::min(done, levels.size());
+  const bool any = done > 0;
+  const double last = any ? levels[done - 1] : 0.0;
+  const double dir = next.size() > 1 && next.back() < next.front() ? -1.0 : 1.0;
+  std::vector<double> kept(levels.begin(), levels.begin() + static_cast<long>(done));
+  for (double v : next)
+    if (!any || (v - last) * dir > 0) kept.push_back(v);
+  return kept;
+}
+
+std::string level_edit_problem(const CaSchedule& now, const CaSchedule& next) {
+  const bool was_branch = now.continuation.has_value();
+  if (was_branch != next.continuation.has_value())
+    return std::string("this run ") +
+           (was_branch ? "follows a continuation: edit its to, step or after_fold"
+                       : "solves at levels: give levels (a continuation starts a new run)");
+  if (was_branch && next.continuation->from != now.continuation->from)
+    return "continuation.from cannot change once the branch has started (to, step and "
+           "after_fold can)";
+  if (!was_branch) {
+    try {
+      schedule_levels(next, 0.0);
+    } catch (const std::invalid_argument& e) {
+      return e.what();
+    }
+  }
+  return "";
+}
+
 const char* const kContinuationRefused =
     "ca: a continuation follows a branch of steady states, which capflow steady solves for; "
     "capflow run holds levels, ramps and steps (a number or a list of segments)";

@@ -60,6 +60,15 @@ std::vector<ControlIssue> level_count_issues(const CaSchedule& s, std::optional<
 // kMaxStepsLevels levels.
 std::vector<double> schedule_levels(const CaSchedule& s, double start = 0);
 
+// A live edit of capflow steady's levels: the `done` levels of `levels` kept, then those of
+// `next` beyond the last one kept, in the direction `next` moves (all of `next` when done = 0).
+std::vector<double> levels_to_come(const std::vector<double>& levels, size_t done,
+                                   const std::vector<double>& next);
+
+// Why `next` cannot replace the schedule `now` of a running capflow steady ("" when it can): a
+// continuation stays one (with the same from), levels stay levels that schedule_levels accepts.
+std::string level_edit_problem(const CaSchedule& now, const CaSchedule& next);
+
 class CaScheduler {
  public:
   CaScheduler(const CaSchedule& schedule, const SteadyOptions& steady, double t0 = 0.0,

@@ -795,8 +795,22 @@ std::string leaf_of(const std::string& path) {
 
 }  // namespace
 
+// Which commands take an edit of each live key: capflow run every one; capflow steady those its
+// solver uses.
+std::vector<Field> with_live_commands(std::vector<Field> t) {
+  static const char* const kSteadyLive[] = {"ca", "steady.solve_tolerance", "time.tolerance",
+                                            "run.state"};
+  for (Field& f : t) {
+    if (f.info.mutability != kLive) continue;
+    f.info.live_in = bit(Command::Run);
+    for (const char* k : kSteadyLive)
+      if (f.info.path == k) f.info.live_in |= bit(Command::Steady);
+  }
+  return t;
+}
+
 const std::vector<Field>& fields() {
-  static const std::vector<Field> t = build_fields();
+  static const std::vector<Field> t = with_live_commands(build_fields());
   return t;
 }
 
@@ -859,6 +873,10 @@ std::string suggestion(const std::string& word, const std::vector<std::string>& 
 
 namespace capflow::control {
 
+const char* command_name(Command c) {
+  return c == Command::Steady ? "steady" : "run";
+}
+
 const std::vector<FieldInfo>& control_fields() {
   static const std::vector<FieldInfo> info = [] {
     std::vector<FieldInfo> v;
@@ -867,6 +885,17 @@ const std::vector<FieldInfo>& control_fields() {
   }();
   return info;
 }
+
+namespace {
+// "frozen", "live (run)", "live (run, steady)".
+std::string live_text(const FieldInfo& f) {
+  if (f.mutability != Mutability::Live) return "frozen";
+  std::string s;
+  for (Command c : {Command::Run, Command::Steady})
+    if (f.live_for(c)) s += (s.empty() ? "" : ", ") + std::string(command_name(c));
+  return "live (" + s + ")";
+}
+}  // namespace
 
 std::string control_reference_markdown() {
   std::ostringstream m;
@@ -882,14 +911,18 @@ std::string control_reference_markdown() {
        "in the capsule radius a, time in 1/G (G the rate of the imposed flow), tensions in Gs, "
        "Ca = mu G a / Gs.\n\n"
     << "**Live** keys may be edited while a run goes on (the edit applies at the next step "
-       "boundary); a live edit of a **frozen** key is refused with a message while the rest of "
-       "the edit applies. An edit that does not parse or validate is refused as a whole.\n\n"
+       "boundary); the edit column names the commands that take it (`capflow steady` uses "
+       "fewer keys than `capflow run`). A live edit of a **frozen** key, or of a key the command "
+       "does not take, is refused with a message while the rest of the edit applies. An edit "
+       "that does not parse or validate is refused as a whole, except for `run.state` and "
+       "`run.checkpoint_now`, which are honoured alone (a stop saved in a file that is refused "
+       "otherwise still stops the run).\n\n"
     << "| key | type | valid | default | unit | edit | meaning |\n"
     << "|---|---|---|---|---|---|---|\n";
   for (const FieldInfo& f : control_fields())
     m << "| `" << f.path << "` | " << f.type << " | " << cell(f.valid) << " | "
       << cell(f.default_value) << " | " << f.unit << " | "
-      << (f.mutability == Mutability::Live ? "live" : "frozen") << " | " << cell(f.doc) << " |\n";
+      << live_text(f) << " | " << cell(f.doc) << " |\n";
   m << "\n`output.mp4` may also be `false` (no movie) or `true` (the defaults).\n\n"
     << "## Ca schedules\n\n"
     << "`\"ca\": 0.45` holds Ca = 0.45 for the whole run (a steady state is still detected and "

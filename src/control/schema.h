@@ -15,8 +15,15 @@ namespace capflow::control {
 
 enum class Mutability {
   Frozen,  // fixed for a run's life: a live edit of it is refused (the rest of the edit applies)
-  Live,    // a live edit applies at the next step boundary
+  Live,    // a live edit applies at the next step boundary (of the commands in live_in)
 };
+
+// The commands that take live edits, as bits of FieldInfo::live_in.
+enum class Command : unsigned { Run = 1, Steady = 2 };
+constexpr unsigned bit(Command c) {
+  return static_cast<unsigned>(c);
+}
+const char* command_name(Command c);  // "run", "steady"
 
 struct FieldInfo {
   std::string path;           // JSON path, e.g. "time.dt"
@@ -26,6 +33,11 @@ struct FieldInfo {
   std::string unit;           // "1/G", "a", "Gs", "px", "" (dimensionless or none)
   Mutability mutability = Mutability::Frozen;
   std::string doc;  // one line
+  // Live keys: the commands whose runs take an edit of it (bits of Command). A live key that a
+  // command does not use is refused there as not for that command (capflow steady solves with
+  // ca, steady.solve_tolerance, time.tolerance and run.state only).
+  unsigned live_in = 0;
+  bool live_for(Command c) const { return mutability == Mutability::Live && (live_in & bit(c)); }
 };
 
 // Every field, in table order (objects in the order of the effective control file).

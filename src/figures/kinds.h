@@ -21,6 +21,7 @@
 #include "figures/figure.h"
 #include "figures/overlay.h"
 #include "figures/writer.h"
+#include "output/records.h"
 
 namespace capflow::figures {
 
@@ -36,7 +37,7 @@ void profile_figures(Writer& w, const std::vector<RunInfo>& runs, const KindOpti
 // The runs that have <file> with the columns `need`, with their tables; the others are named in
 // a note.
 std::vector<RunTable> load_run_tables(Writer& w, const std::vector<RunInfo>& runs,
-                                      const std::string& file,
+                                      const output::records::Layout& layout,
                                       const std::vector<std::string>& need);
 
 }  // namespace capflow::figures

@@ -88,7 +88,7 @@ void add_published(Figure* fig, const std::vector<RunTable>& data, bool length) 
 
 void steady_figures(Writer& w, const std::vector<RunInfo>& runs, const KindOptions& o) {
   const auto data =
-      load_run_tables(w, runs, "steady.csv",
+      load_run_tables(w, runs, output::records::steady_run(),
                       {"ca", "L", "S", "W", "Lc", "Sc", "Wc", "area", "edge_curvature", "tau_max"});
   if (data.empty()) return;
   const Quantity ca = column("ca"), lc = column("Lc");

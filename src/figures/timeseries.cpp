@@ -16,8 +16,12 @@ namespace fs = std::filesystem;
 using labels::it;
 
 std::vector<RunTable> load_run_tables(Writer& w, const std::vector<RunInfo>& runs,
-                                      const std::string& file,
+                                      const output::records::Layout& layout,
                                       const std::vector<std::string>& need) {
+  // the columns the figures read are the run's (output/records.h): a name it does not write is
+  // a bug here, not a run's fault
+  for (const auto& c : need) layout.index(c);
+  const std::string file = layout.file;
   std::vector<RunTable> out;
   for (const auto& r : runs) {
     const fs::path p = fs::path(r.dir) / file;
@@ -79,7 +83,7 @@ void add_published_steady_d(Figure* fig, const std::vector<RunTable>& data) {
 
 void timeseries_figures(Writer& w, const std::vector<RunInfo>& runs, const KindOptions& o) {
   const auto data = load_run_tables(
-      w, runs, "timeseries.csv", {"t", "D", "L", "S", "W", "edge_curvature", "tau_max", "tau_min"});
+      w, runs, output::records::timeseries(), {"t", "D", "L", "S", "W", "edge_curvature", "tau_max", "tau_min"});
   if (data.empty()) return;
   const Quantity t = column("t");
   Figure d = overlay({"ts_D", "Taylor deformation D against time", "figs. 5a, 11a", labels::time(),
@@ -114,7 +118,7 @@ void timeseries_figures(Writer& w, const std::vector<RunInfo>& runs, const KindO
   }
   // the runs that have the column (older runs lack it: left out with a note)
   const auto with = [&](const std::string& c) {
-    return load_run_tables(w, runs, "timeseries.csv", {"t", c});
+    return load_run_tables(w, runs, output::records::timeseries(), {"t", c});
   };
   const auto drift = with("volume_drift");
   if (!drift.empty())
@@ -122,7 +126,7 @@ void timeseries_figures(Writer& w, const std::vector<RunInfo>& runs, const KindO
                     labels::volume_drift()},
                    drift, t, {column("volume_drift")}));
   const auto sheared =
-      only(load_run_tables(w, runs, "timeseries.csv", {"t", "D", "inclination_deg"}),
+      only(load_run_tables(w, runs, output::records::timeseries(), {"t", "D", "inclination_deg"}),
            [](const RunInfo& r) { return r.shear(); });
   // a nearly spherical shape has no long axis: its rows (the start from rest) are left out
   const Quantity inclination{"inclination_deg", it("θ"), [](const Table& tb, long r) {

@@ -21,10 +21,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-long frames_in(const fs::path& mp4) {
-  return capflow::testing::ffprobe(mp4.string()).packets;
-}
-
 // The frame indices of frames/ and whether they are 0..n-1 without a gap.
 bool frames_without_gap(const fs::path& run, long* n) {
   std::set<long> idx;

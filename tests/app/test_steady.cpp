@@ -199,7 +199,7 @@ TEST(Steady, TheLiveControlFilePausesRefusesShortensAndStops) {
       << test::read_file(d / "stderr.log");
   // Paused: no state is added until "running" is saved.
   save(ctl, live_case(branch, R"(, "run": {"state": "paused"})"));
-  ASSERT_TRUE(test::wait_for([&] { return test::count_events(run, "paused") == 1; }, 60))
+  ASSERT_TRUE(test::wait_for([&] { return test::count_events(run, "pause") == 1; }, 60))
       << test::read_file(d / "stderr.log");
   const long rows = test::csv_rows(run / "steady.csv");
   // A broken edit while paused is refused; the run keeps its settings.
@@ -216,7 +216,7 @@ TEST(Steady, TheLiveControlFilePausesRefusesShortensAndStops) {
   save(ctl, live_case(R"({"continuation": {"from": 0.3, "to": 0.9, "step": 0.1}})",
                       R"(, "steady": {"window": 2})"));
   ASSERT_EQ(test::wait_exit(pid, 180), 0) << test::read_file(d / "stderr.log");
-  EXPECT_EQ(test::count_events(run, "resumed"), 1);
+  EXPECT_EQ(test::count_events(run, "continue"), 1);
   EXPECT_EQ(test::csv_column(run / "steady.csv", "ca").back(), 0.9);
   nlohmann::json last_edit;
   for (const auto& e : test::events(run))
@@ -282,7 +282,7 @@ TEST(Steady, AnEditOfTheLevelsReplacesTheLevelsToCome) {
   const std::string levels =
       "[{\"ca\": 0.3}, {\"ca\": 0.35}, {\"ca\": 0.4}, {\"ca\": 0.45}, {\"ca\": 0.5}]";
   save(ctl, live_case(levels, R"(, "run": {"state": "paused"})"));
-  ASSERT_TRUE(test::wait_for([&] { return test::count_events(run, "paused") == 1; }, 60))
+  ASSERT_TRUE(test::wait_for([&] { return test::count_events(run, "pause") == 1; }, 60))
       << test::read_file(d / "stderr.log");
   save(ctl, live_case("[{\"ca\": 0.3}, {\"ca\": 0.33}, {\"ca\": 0.5}]"));
   ASSERT_EQ(test::wait_exit(pid, 180), 0) << test::read_file(d / "stderr.log");

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <set>
 #include <string>
 
 #include "control/control_file.h"
@@ -108,4 +109,64 @@ TEST(ControlBounds, AFrozenRestoreVolumeEditIsRefusedNotDropped) {
   ASSERT_EQ(r.refused.size(), 1u);
   EXPECT_EQ(r.refused[0].path, "start.restore_volume");
   EXPECT_TRUE(r.applied.empty());
+}
+
+// Milestone 16: the edit policy as data - each command's live keys come from the schema, and
+// every changed key gets a typed outcome with its message.
+TEST(EditPolicy, EachCommandTakesItsLiveKeysFromTheSchema) {
+  const ControlOptions before = parse_control(R"({"ca": 0.3})").options;
+  const ControlOptions after = parse_control(R"({"ca": 0.4, "output": {"csv_every": 0.5},
+      "mesh": {"nb": 8}, "time": {"tolerance": 1e-7}})").options;
+  EditPolicy run;
+  run.command = Command::Run;
+  const EditResult r = apply_edit(before, before, after, run);
+  ASSERT_EQ(r.applied.size(), 3u);  // ca, time.tolerance, output.csv_every
+  ASSERT_EQ(r.refused.size(), 1u);
+  EXPECT_EQ(r.refused[0].path, "mesh.nb");
+  EXPECT_EQ(r.refused[0].outcome, EditOutcome::Frozen);
+  EditPolicy steady;
+  steady.command = Command::Steady;
+  const EditResult s = apply_edit(before, before, after, steady);
+  ASSERT_EQ(s.applied.size(), 2u);
+  std::set<std::string> live;
+  for (const OptionChange& c : s.applied) live.insert(c.path);
+  EXPECT_EQ(live, (std::set<std::string>{"ca", "time.tolerance"}));
+  ASSERT_EQ(s.refused.size(), 2u);
+  for (const OptionChange& c : s.refused) {
+    if (c.path == "output.csv_every") {
+      EXPECT_EQ(c.outcome, EditOutcome::NotForCommand);
+      EXPECT_TRUE(has(c.reason, "capflow steady does not use it"));
+    } else {
+      EXPECT_EQ(c.path, "mesh.nb");
+      EXPECT_EQ(c.outcome, EditOutcome::Frozen);
+    }
+  }
+  // the schema says so, for every key
+  for (const FieldInfo& f : control_fields())
+    if (f.mutability == Mutability::Live) EXPECT_TRUE(f.live_for(Command::Run)) << f.path;
+  EXPECT_EQ(s.merged.output.csv_every, before.output.csv_every);
+  EXPECT_EQ(s.merged.time.tolerance, 1e-7);
+}
+
+TEST(EditPolicy, AVetoRefusesAChangeAsInvalidAndTheRestApplies) {
+  const ControlOptions before = parse_control(R"({"ca": 0.3})").options;
+  const ControlOptions after =
+      parse_control(R"({"ca": {"continuation": {"from": 0.1, "to": 1, "step": 0.1}},
+                        "time": {"t_end": 5}})")
+          .options;
+  EditPolicy p;
+  p.veto = [](const OptionChange& c, const ControlOptions& merged) {
+    return c.path == "ca" && merged.ca.continuation ? std::string("a continuation is steady's")
+                                                    : std::string();
+  };
+  const EditResult r = apply_edit(before, before, after, p);
+  ASSERT_EQ(r.refused.size(), 1u);
+  EXPECT_EQ(r.refused[0].outcome, EditOutcome::Invalid);
+  EXPECT_EQ(r.refused[0].reason, "a continuation is steady's");
+  EXPECT_FALSE(r.schedule_changed);
+  ASSERT_EQ(r.applied.size(), 1u);
+  EXPECT_EQ(r.applied[0].path, "time.t_end");
+  EXPECT_FALSE(r.merged.ca.continuation);
+  // the events.jsonl record names the outcome
+  EXPECT_TRUE(has(change_record(r.refused[0]).text(), "\"refused\":\"invalid\""));
 }
