@@ -65,7 +65,10 @@ class SnapshotQueue {
   // Blocks until an item is available; nullopt when closed and the movie lane is drained.
   std::optional<Item> pop() {
     std::unique_lock<std::mutex> lock(mu_);
-    not_empty_.wait(lock, [&] { return closed_ || !frames_.empty() || preview_; });
+    if (!closed_ && frames_.empty() && !preview_) {
+      ++consumer_waits_;
+      not_empty_.wait(lock, [&] { return closed_ || !frames_.empty() || preview_; });
+    }
     if (!frames_.empty()) {
       Item it{Lane::Movie, std::move(frames_.front())};
       frames_.pop_front();
@@ -93,6 +96,8 @@ class SnapshotQueue {
   bool closed() const { std::lock_guard<std::mutex> l(mu_); return closed_; }
   // Times push_frame() had to wait (back-pressure events).
   long producer_waits() const { std::lock_guard<std::mutex> l(mu_); return producer_waits_; }
+  // Times pop() had to wait for an item (the renderer idle).
+  long consumer_waits() const { std::lock_guard<std::mutex> l(mu_); return consumer_waits_; }
   // Previews dropped because a newer one replaced them before the consumer took them.
   long previews_replaced() const { std::lock_guard<std::mutex> l(mu_); return previews_replaced_; }
 
@@ -104,6 +109,7 @@ class SnapshotQueue {
   std::optional<Snapshot> preview_;
   bool closed_ = false;
   long producer_waits_ = 0;
+  long consumer_waits_ = 0;
   long previews_replaced_ = 0;
 };
 

@@ -2,13 +2,19 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
-#include <chrono>
 #include <thread>
 
 #include "render/snapshot_queue.h"
 
 namespace capflow::render {
 namespace {
+// Returns once `done` holds (the other thread reached the state the test needs): a
+// synchronisation, not a timed guess; ctest's timeout ends a test that never gets there.
+template <class F>
+void wait_until(F done) {
+  while (!done()) std::this_thread::yield();
+}
+
 Snapshot tagged(long k) {
   Snapshot s;
   s.frame = k;
@@ -24,7 +30,7 @@ TEST(SnapshotQueue, PushBlocksWhenFullAndFramesKeepOrder) {
       ++pushed;
     }
   });
-  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  wait_until([&] { return q.producer_waits() == 1; });  // the third push waits
   EXPECT_EQ(pushed.load(), 2);  // capacity reached: the producer waits (back-pressure)
   for (long k = 0; k < 5; ++k) {
     auto it = q.pop();
@@ -66,13 +72,13 @@ TEST(SnapshotQueue, CloseWakesBlockedProducerAndConsumer) {
   ASSERT_TRUE(q.push_frame(tagged(0)));
   std::atomic<int> result{-1};
   std::thread producer([&] { result = q.push_frame(tagged(1)) ? 1 : 0; });
-  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  wait_until([&] { return q.producer_waits() == 1; });  // blocked on the full lane
   q.close();
   producer.join();
   EXPECT_EQ(result.load(), 0);
   SnapshotQueue empty(1);
   std::thread consumer([&] { EXPECT_FALSE(empty.pop()); });
-  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  wait_until([&] { return empty.consumer_waits() == 1; });  // blocked on the empty queue
   empty.close();
   consumer.join();
 }
