@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
-"""Milestone 3 paper reproduction: runs the control files of validation/ with capflow (unless
-their run directory already holds a finished run and --reuse is given) and prints the markdown
-tables of docs/validation.md (section "dynamics").
+"""The paper reproduction: runs the control files of validation/ with capflow (unless their run
+directory already holds a finished run and --reuse is given) and prints the markdown tables of
+docs/validation.md's sections 6, 7, 9.3, 10, 11 and 15.1 (hours on 2 cores; printed, not spliced).
 
 Usage: validation/table.py [--exe build/src/app/capflow] [--reuse | --no-run] [--only NAME[,NAME...]]
 

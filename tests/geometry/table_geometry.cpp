@@ -1,4 +1,4 @@
-// Prints the Milestone 1 validation tables (markdown) for docs/validation.md:
+// Prints the validation tables of docs/validation.md section 1 (markdown):
 //  1. max over all nodes of the mean-curvature error on the unit sphere, NB = 6..16, for each
 //     element division (equiangular map), with the radial map at NE=6 for comparison;
 //  2. area and volume relative errors of the unit sphere;

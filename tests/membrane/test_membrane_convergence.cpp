@@ -1,4 +1,4 @@
-// Validation tables for the membrane traction (docs/validation.md, Milestone 2b):
+// Validation tables for the membrane traction (docs/validation.md, section 3):
 // convergence of f in NB, virtual work, force/torque balance, inflation of the sphere.
 // Run: build-membrane/tests/membrane/test_membrane_convergence   (prints the tables)
 #include <gtest/gtest.h>

@@ -104,7 +104,7 @@ double octant_error(int ne, int nb, const geometry::PointMap& map, const char* n
 
 }  // namespace
 
-// Measured (docs/validation.md, Milestone 2a) with the plain own radial rule: bumpy 1.2e-8 /
+// Measured (docs/validation.md, section 2.3) with the plain own radial rule: bumpy 1.2e-8 /
 // 1.6e-9, ellipsoid 7.6e-9 / 9.8e-10 at NE=6 NB=10 / NE=10 NB=12; the lamellar shape (2.0, 0.6,
 // 1.0, 0.3) has a strongly curved tip element at NE=6 where that rule reached only ~3e-6.
 // With the graded own rays of 2026-12-02 (docs/performance.md): bumpy 1.0e-10 / 4.0e-11,
