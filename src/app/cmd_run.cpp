@@ -39,6 +39,7 @@ void setup_run(CLI::App& root) {
       "in (0, 1e6]");
   c->add_option("--t-end", args->t_end, "End time (overrides time.t_end; with --resume: extend)")
       ->check(t_end_range);
+  add_serve_options(c, &args->serve);
   c->callback([args] { set_exit_code(run_command(*args)); });
 }
 

@@ -5,10 +5,12 @@
 #include <memory>
 
 #include "app/console.h"
+#include "app/console_source.h"
 #include "app/errors.h"
 #include "app/simulation.h"
 #include "app/stop_signal.h"
 #include "control/control_file.h"
+#include "membrane/law.h"
 
 namespace capflow::app {
 namespace {
@@ -27,7 +29,7 @@ std::unique_ptr<Simulation> resume_run(const RunArgs& a) {
   }
 }
 
-std::unique_ptr<Simulation> new_run(const RunArgs& a) {
+NewRun new_run_spec(const RunArgs& a) {
   if (a.control.empty())
     throw UserError("give a control file (capflow run CONTROL.json) or --resume RUN_DIR");
   control::ParsedControl parsed = control::load_control_file(a.control);  // exit 2 when bad
@@ -40,7 +42,13 @@ std::unique_ptr<Simulation> new_run(const RunArgs& a) {
       throw UserError("--t-end " + std::to_string(a.t_end) + ": " + issues[0].message);
   }
   for (const auto& w : parsed.warnings) console::err("capflow: warning: " + w.str());
-  return std::make_unique<Simulation>(run);
+  return run;
+}
+
+std::unique_ptr<RunFeed> make_feed(const std::string& dir, const control::ControlOptions& o,
+                                   const std::string& control_source) {
+  return std::make_unique<RunFeed>(dir, control_source, control::Command::Run, o.render,
+                                   membrane::to_string(o.law.kind));
 }
 
 }  // namespace
@@ -48,8 +56,34 @@ std::unique_ptr<Simulation> new_run(const RunArgs& a) {
 int run_command(const RunArgs& a) {
   try {
     std::signal(SIGXFSZ, SIG_IGN);
-    std::unique_ptr<Simulation> sim = a.resume.empty() ? new_run(a) : resume_run(a);
-    return sim->run(install_stop_signals()).exit_code();
+    const std::atomic<bool>* stop = install_stop_signals();
+    std::unique_ptr<Simulation> sim;
+    std::unique_ptr<RunFeed> feed;
+    std::unique_ptr<LiveConsole> live;
+    if (a.resume.empty()) {
+      const NewRun run = new_run_spec(a);
+      // The console first: an address that cannot be bound refuses the run before it starts.
+      if (a.serve.enabled()) {
+        feed = make_feed(run.options.output.dir, run.options, run.control_source);
+        live = std::make_unique<LiveConsole>(*feed, a.serve);
+      }
+      sim = std::make_unique<Simulation>(run);
+    } else {
+      sim = resume_run(a);
+      if (a.serve.enabled()) {
+        feed = make_feed(a.resume, sim->options(), sim->lifecycle().control_source());
+        live = std::make_unique<LiveConsole>(*feed, a.serve);
+      }
+    }
+    if (feed) {
+      sim->outputs().add_observer([f = feed.get()](const StateRecord& s) { f->observe(s); });
+      const std::string url = live->url();
+      sim->lifecycle().say("console at " + url.substr(0, url.find("?token")) +
+                           " (its token is on the terminal)");
+    }
+    const int code = sim->run(stop).exit_code();
+    if (live) live->linger(stop);
+    return code;
   } catch (const std::exception& e) {
     return report_failure(e);
   }

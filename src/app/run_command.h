@@ -4,6 +4,8 @@
 
 #include <string>
 
+#include "app/live_console.h"
+
 namespace capflow::app {
 
 struct RunArgs {
@@ -12,6 +14,7 @@ struct RunArgs {
   std::string resume;      // --resume RUN_DIR (then no control, -o or --overwrite)
   bool overwrite = false;
   double t_end = -1;  // --t-end (> 0): overrides time.t_end (with --resume: extends)
+  ServeOptions serve;  // --serve, --serve-linger: the live console
 };
 
 // Runs it to its end (signals stop it as documented in cmd_run.cpp) and returns the exit code

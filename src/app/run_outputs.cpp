@@ -16,6 +16,20 @@
 
 namespace capflow::app {
 
+const char* phase_name(RunPhase p) {
+  switch (p) {
+    case RunPhase::Running:
+      return "running";
+    case RunPhase::Paused:
+      return "paused";
+    case RunPhase::Stopped:
+      return "stopped";
+    case RunPhase::Finished:
+      return "finished";
+  }
+  return "";
+}
+
 namespace {
 
 // An output writer's exception (vtk, pvd) as an output failure naming the file.
@@ -123,7 +137,7 @@ void RunOutputs::write_due(const StateRecord& state) {
     write_row(s);
     pending_.row = false;
   }
-  for (const Observer& o : observers_) o(s);
+  notify(s);
 }
 
 void RunOutputs::offer_preview(const StateRecord& s) {

@@ -21,6 +21,7 @@
 #include "app/run_checkpoint.h"
 #include "app/run_lifecycle.h"
 #include "capsule/capsule.h"
+#include "control/schedule.h"
 #include "control/options.h"
 #include "diagnostics/diagnostics.h"
 #include "output/vtk.h"
@@ -36,6 +37,10 @@ struct Measures {
 };
 Measures measure_state(const capsule::Capsule& cap, bool full);
 
+// What the run is doing at a reported state (the live console's run state).
+enum class RunPhase { Running, Paused, Stopped, Finished };
+const char* phase_name(RunPhase p);  // "running", "paused", "stopped", "finished"
+
 // A state as the outputs see it.
 struct StateRecord {
   capsule::Capsule* cap = nullptr;  // at the state: its positions, time and step count
@@ -43,6 +48,9 @@ struct StateRecord {
   Measures m;       // full when a row, frame or surface is due
   double dt = 0;    // the step that ended here (0 before the first)
   double wall = 0;  // wall seconds of the run
+  const control::CaScheduler* schedule = nullptr;  // the Ca schedule (null: none to describe)
+  RunPhase phase = RunPhase::Running;  // not Running: the state stays (a pause, the end)
+  double t_end = 0;                    // the run's end time now
 };
 
 class RunOutputs {
@@ -76,9 +84,13 @@ class RunOutputs {
   // Live edits of output.* (frozen keys aside: the surface's point count is read at each one).
   void set_options(const control::ControlOptions& options) { opt_ = options; }
 
-  // Called with every state reported (the live console's feed).
+  // Called with every state reported (the live console's feed), and with the state a pause or
+  // the end leaves in place (notify).
   using Observer = std::function<void(const StateRecord&)>;
   void add_observer(Observer o) { observers_.push_back(std::move(o)); }
+  void notify(const StateRecord& s) const {
+    for (const Observer& o : observers_) o(s);
+  }
 
  private:
   render::Snapshot snapshot(const StateRecord& s) const;

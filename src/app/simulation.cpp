@@ -104,7 +104,8 @@ struct Simulation::Impl {
   }
 
   StateRecord record(const Measures& m, double ca) {
-    return {cap.get(), ca, m, last_dt, life->wall()};
+    return {cap.get(), ca, m, last_dt, life->wall(), schedule.get(), RunPhase::Running,
+            opt.time.t_end};
   }
 
   // ---- checkpoints --------------------------------------------------------------------------
@@ -411,6 +412,14 @@ std::unique_ptr<Simulation> Simulation::resume(const std::string& run_dir,
 
 Simulation::~Simulation() = default;
 
+const control::ControlOptions& Simulation::options() const {
+  return impl_->opt;
+}
+
+RunOutputs& Simulation::outputs() {
+  return *impl_->out;
+}
+
 RunLifecycle& Simulation::lifecycle() {
   return *impl_->life;
 }
@@ -462,6 +471,9 @@ RunSummary Simulation::run(const std::atomic<bool>* stop) {
         else
           progress.unpause();
         was_paused = paused;
+        StateRecord r = s.record(last.m, s.schedule->ca(s.t()));
+        r.phase = paused ? RunPhase::Paused : RunPhase::Running;
+        s.out->notify(r);
       }
       if (paused) {
         std::this_thread::sleep_for(std::chrono::milliseconds(100));
@@ -504,6 +516,11 @@ RunSummary Simulation::run(const std::atomic<bool>* stop) {
     }
   }
   sum.termination = why;
+  StateRecord end = s.record(last.m, s.schedule->ca(s.t()));
+  end.phase = why == RunTermination::TEndReached || why == RunTermination::SteadyStop
+                  ? RunPhase::Finished
+                  : RunPhase::Stopped;
+  s.out->notify(end);
   s.summarise(&sum);
   s.life->end(sum.BriefReport(), sum.end_event(), s.t());
   return sum;

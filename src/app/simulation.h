@@ -20,6 +20,7 @@
 #include <string>
 
 #include "app/run_lifecycle.h"
+#include "app/run_outputs.h"
 #include "app/run_summary.h"
 #include "control/options.h"
 
@@ -44,8 +45,11 @@ class Simulation {
   // Runs to completion. `stop` may be set from a signal handler.
   RunSummary run(const std::atomic<bool>* stop = nullptr);
 
-  // The lifecycle (its outputs' observers; the live console).
+  // The lifecycle and the outputs (their observers: the live console).
   RunLifecycle& lifecycle();
+  RunOutputs& outputs();
+  // The run's options before it runs (live edits change them later, in the run's thread).
+  const control::ControlOptions& options() const;
 
   // Path of the newest checkpoint in a run directory ("" if none).
   static std::string latest_checkpoint(const std::string& run_dir);

@@ -55,6 +55,12 @@ Record& Record::set_json(const std::string& key, const std::string& json_text) {
   return put(key, dump(v));
 }
 
+std::string json_value_text(const std::string& text) {
+  const ordered v = ordered::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (v.is_discarded()) return ordered(text).dump(-1, ' ', false, ordered::error_handler_t::replace);
+  return dump(v);
+}
+
 std::string Record::text(int indent) const {
   ordered o = ordered::object();
   for (const auto& [key, value] : fields_) o[key] = ordered::parse(value);

@@ -46,4 +46,8 @@ class Record {
   std::vector<std::pair<std::string, std::string>> fields_;  // key, JSON text of the value
 };
 
+// `text` as one compact JSON value when it is one (a line of events.jsonl, a control file),
+// else as a JSON string holding it.
+std::string json_value_text(const std::string& text);
+
 }  // namespace capflow::control

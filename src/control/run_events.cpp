@@ -37,4 +37,17 @@ RunEnd last_run_end(const std::string& events_path) {
   return end;
 }
 
+EventLine read_event_line(const std::string& line) {
+  const nlohmann::json e = nlohmann::json::parse(line, nullptr, false);
+  EventLine r;
+  if (!e.is_object()) return r;
+  const auto text = [&](const char* k) {
+    const auto it = e.find(k);
+    return it != e.end() && it->is_string() ? it->get<std::string>() : std::string();
+  };
+  r.event = text("event");
+  r.reason = text("reason");
+  return r;
+}
+
 }  // namespace capflow::control

@@ -23,4 +23,11 @@ struct RunEnd {
 // is not a readable regular file within the bound).
 RunEnd last_run_end(const std::string& events_path);
 
+// One line of events.jsonl: its "event" and "reason" ("" when absent or the line is not a JSON
+// object).
+struct EventLine {
+  std::string event, reason;
+};
+EventLine read_event_line(const std::string& line);
+
 }  // namespace capflow::control

@@ -235,6 +235,27 @@ std::string CaScheduler::describe(double t) const {
   return m.str();
 }
 
+std::string CaScheduler::describe_next() const {
+  const int next = segment_ + 1;
+  if (in_final_hold()) return "";
+  if (next >= static_cast<int>(schedule_.segments.size()))
+    return "then the final level is held until t_end";
+  const CaSegment& s = schedule_.segments[next];
+  std::ostringstream m;
+  switch (s.kind) {
+    case CaSegment::Kind::Hold:
+      m << "then Ca = " << s.ca << ", " << held(s);
+      break;
+    case CaSegment::Kind::Ramp:
+      m << "then ramp to Ca = " << s.to << " at " << s.rate << " per unit time";
+      break;
+    case CaSegment::Kind::Steps:
+      m << "then steps of " << s.by << " towards Ca = " << s.to << ", each " << held(s);
+      break;
+  }
+  return m.str();
+}
+
 CaScheduler::Event CaScheduler::sample(double t, double L, double S, double W) {
   Event ev;
   samples_.push_back({t, L, S, W});

@@ -108,6 +108,9 @@ class CaScheduler {
   // What the running segment does from time t on ("ramp from Ca = 0.5 to 1 at 0.1 per unit
   // time", "Ca = 0.2, step 1 of 3 towards 0.4, held until steady", ...).
   std::string describe(double t) const;
+  // What comes after the running segment ("then ramp to 1 at 0.1 per unit time", "then the
+  // final level is held until t_end").
+  std::string describe_next() const;
 
   // The engine's full state as numbers (for checkpoints; the schedule itself is not included)
   // and its restoration: restore(state()) continues bit for bit.

@@ -16,7 +16,7 @@ namespace {
 
 // libspng with zlib at level 1 and the "up" filter on every row: a rendered 1280x720 frame in
 // ~9 ms (stb_image_write at level 5 with the same filter: 30-45 ms) and a file of the same size
-// (docs/performance.md, Milestone 13).
+// (docs/performance.md, "Movie runs", "PNG").
 constexpr int kLevel = 1;
 
 struct CtxFree {
@@ -50,11 +50,14 @@ std::unique_ptr<void, decltype(&std::free)> encode(int width, int height, int ch
 
 }  // namespace
 
-void write_png(const std::string& path, int width, int height, const uint8_t* rgba, int stride) {
+namespace {
+
+// The pixels packed as RGB when opaque (every rendered frame: a quarter less data to filter and
+// compress; the pixels read back the same), else RGBA; *channels says which.
+const std::vector<uint8_t>& pack(int width, int height, const uint8_t* rgba, int stride,
+                                 int* channels) {
   if (width <= 0 || height <= 0 || !rgba) throw std::invalid_argument("write_png: empty image");
   if (stride == 0) stride = width * 4;
-  // An opaque image (every rendered frame) is written as RGB: a quarter less data to filter
-  // and compress; the pixels read back the same.
   bool opaque = true;
   for (int y = 0; y < height && opaque; ++y) {
     const uint8_t* row = rgba + static_cast<size_t>(y) * stride;
@@ -64,15 +67,31 @@ void write_png(const std::string& path, int width, int height, const uint8_t* rg
         break;
       }
   }
-  const int channels = opaque ? 3 : 4;
+  *channels = opaque ? 3 : 4;
   thread_local std::vector<uint8_t> packed;  // kept: a frame's 1.5-6 MB, every frame
-  packed.resize(static_cast<size_t>(width) * height * channels);
+  packed.resize(static_cast<size_t>(width) * height * *channels);
   for (int y = 0; y < height; ++y) {
     const uint8_t* row = rgba + static_cast<size_t>(y) * stride;
-    uint8_t* out = packed.data() + static_cast<size_t>(y) * width * channels;
+    uint8_t* out = packed.data() + static_cast<size_t>(y) * width * *channels;
     for (int x = 0; x < width; ++x)
-      for (int c = 0; c < channels; ++c) out[channels * x + c] = row[4 * x + c];
+      for (int c = 0; c < *channels; ++c) out[*channels * x + c] = row[4 * x + c];
   }
+  return packed;
+}
+
+}  // namespace
+
+std::string encode_png(int width, int height, const uint8_t* rgba, int stride) {
+  int channels = 0;
+  const std::vector<uint8_t>& packed = pack(width, height, rgba, stride, &channels);
+  size_t length = 0;
+  const auto png = encode(width, height, channels, packed.data(), &length, "(in memory)");
+  return std::string(reinterpret_cast<const char*>(png.get()), length);
+}
+
+void write_png(const std::string& path, int width, int height, const uint8_t* rgba, int stride) {
+  int channels = 0;
+  const std::vector<uint8_t>& packed = pack(width, height, rgba, stride, &channels);
   size_t length = 0;
   const auto png = encode(width, height, channels, packed.data(), &length, path);
   try {

@@ -13,5 +13,7 @@ namespace capflow::output {
 
 void write_png(const std::string& path, int width, int height, const uint8_t* rgba,
                int stride = 0);
+// The same PNG in memory (the live console's frames).
+std::string encode_png(int width, int height, const uint8_t* rgba, int stride = 0);
 
 }  // namespace capflow::output
