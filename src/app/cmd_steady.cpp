@@ -10,6 +10,8 @@
 
 #include "app/commands.h"
 #include "app/console.h"
+#include "app/console_source.h"
+#include "app/live_console.h"
 #include "app/steady_run.h"
 #include "app/stop_signal.h"
 #include "control/control_file.h"
@@ -21,6 +23,7 @@ struct SteadyArgs {
   std::string control;
   std::string output_dir;
   bool overwrite = false;
+  ServeOptions serve;
 };
 
 void steady_cmd(const SteadyArgs& a) {
@@ -29,7 +32,18 @@ void steady_cmd(const SteadyArgs& a) {
   if (!a.output_dir.empty()) parsed.options.output.dir = a.output_dir;
   for (const auto& w : parsed.warnings)
     if (w.path != "time.dt") console::err("capflow: warning: " + w.str());
-  const SteadySummary s = run_steady(parsed.options, a.overwrite, install_stop_signals(), live);
+  const std::atomic<bool>* stop = install_stop_signals();
+  // The console shows the run directory as the solver fills it (states at each level).
+  std::unique_ptr<RunDirectorySource> source;
+  std::unique_ptr<LiveConsole> console;
+  if (a.serve.enabled()) {
+    source = std::make_unique<RunDirectorySource>(parsed.options.output.dir, a.control,
+                                                  control::Command::Steady,
+                                                  parsed.options.render);
+    console = std::make_unique<LiveConsole>(*source, a.serve);
+  }
+  const SteadySummary s = run_steady(parsed.options, a.overwrite, stop, live);
+  if (console) console->linger(stop);
   set_exit_code(s.exit_code());
 }
 
@@ -43,6 +57,7 @@ void setup_steady(CLI::App& root) {
   c->add_option("-o,--output", args->output_dir, "Run directory (overrides output.dir)");
   c->add_flag("--overwrite", args->overwrite,
               "Replace the capflow run already in the run directory (its files are removed)");
+  add_serve_options(c, &args->serve);
   c->callback([args] { steady_cmd(*args); });
 }
 

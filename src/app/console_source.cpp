@@ -174,6 +174,14 @@ RunDirectorySource::RunDirectorySource(const std::string& dir)
                           "or checkpoints/)");
   control_path_ = read_small(dir + "/control.source");
   try {
+    files::InputFile log(dir + "/run.log", "run log", std::size_t(1) << 40);
+    if (log.read_prefix(4096).find("] capflow steady:") != std::string::npos) {
+      command_ = control::Command::Steady;
+      rows_ = serve::AppendedLines(dir + "/steady.csv", "steady states");
+    }
+  } catch (const files::InputError&) {
+  }
+  try {
     render_ = control::parse_control(files::read_input_file(dir + "/control.json",
                                                             "control file", 1 << 20),
                                      dir + "/control.json")
@@ -182,6 +190,16 @@ RunDirectorySource::RunDirectorySource(const std::string& dir)
     render_ = render::RenderOptions{};  // the defaults: the page still shows the run
   }
 }
+
+RunDirectorySource::RunDirectorySource(const std::string& dir, const std::string& control_path,
+                                       control::Command command, render::RenderOptions render)
+    : dir_(dir),
+      control_path_(control_path),
+      command_(command),
+      render_(std::move(render)),
+      surfaces_(dir),
+      rows_(dir + "/" + series_file(), "time series"),
+      events_(dir + "/events.jsonl", "event log") {}
 
 bool RunDirectorySource::alive() const {
   const int fd = ::open((dir_ + "/run.lock").c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
@@ -224,7 +242,9 @@ serve::LiveState RunDirectorySource::state() {
     if (e.event == "pause") s.state = "paused";
     else if (e.event == "continue" || e.event == "resume" || e.event == "start") s.state = "running";
     else if (e.event == "end")
-      s.state = e.reason == "t_end reached" || e.reason.rfind("steady state", 0) == 0
+      // capflow run says why it ended; capflow steady's end says only its exit code.
+      s.state = e.reason == "t_end reached" || e.reason.rfind("steady state", 0) == 0 ||
+                        (e.reason.empty() && e.exit_code == 0)
                     ? "finished"
                     : "stopped";
   }

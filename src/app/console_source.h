@@ -73,6 +73,10 @@ class RunDirectorySource : public serve::Source {
  public:
   // UserError when `dir` is not a capflow run directory.
   explicit RunDirectorySource(const std::string& dir);
+  // The run directory of a command in this process that is about to create it (capflow steady
+  // --serve): its control file and render settings are known already.
+  RunDirectorySource(const std::string& dir, const std::string& control_path,
+                     control::Command command, render::RenderOptions render);
 
   serve::LiveState state() override;
   std::shared_ptr<const render::Snapshot> newest() override;

@@ -47,6 +47,8 @@ EventLine read_event_line(const std::string& line) {
   };
   r.event = text("event");
   r.reason = text("reason");
+  if (const auto it = e.find("exit_code"); it != e.end() && it->is_number_integer())
+    r.exit_code = it->get<int>();
   return r;
 }
 

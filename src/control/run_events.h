@@ -27,6 +27,7 @@ RunEnd last_run_end(const std::string& events_path);
 // object).
 struct EventLine {
   std::string event, reason;
+  int exit_code = -1;  // -1: none
 };
 EventLine read_event_line(const std::string& line);
 

@@ -31,7 +31,8 @@ Response message(int status, const std::string& text) {
 
 std::optional<double> number_param(const Request& r, const char* name) {
   const std::string s = r.param(name);
-  if (s.empty() || s.size() > 64) return std::nullopt;
+  if (s.empty() || s.size() > 64 || s.find_first_not_of("0123456789+-.eE") != std::string::npos)
+    return std::nullopt;  // decimal only: no hex, inf, nan or spaces
   char* end = nullptr;
   errno = 0;
   const double v = std::strtod(s.c_str(), &end);
@@ -73,14 +74,14 @@ std::map<std::string, std::string> load_console_assets() {
   return a;
 }
 
-Api::Api(Source& source, FrameService* frames, std::string token,
+Api::Api(Source& source, FrameDrawer* frames, std::string token,
          std::map<std::string, std::string> assets)
     : source_(source),
       frames_(frames),
       token_(std::move(token)),
       assets_(std::move(assets)),
       control_(source.control_path(), source.command()),
-      timeseries_(std::make_unique<AppendedLines>(source.run_dir() + "/timeseries.csv",
+      timeseries_(std::make_unique<AppendedLines>(source.run_dir() + "/" + source.series_file(),
                                                   "time series")),
       events_(std::make_unique<AppendedLines>(source.run_dir() + "/events.jsonl", "event log")) {}
 

@@ -7,6 +7,7 @@
 //   GET  /api/state            t, ca, D, L, S, W, dt, state, steps, revision, schedule
 //                              {now, next}, steps_per_second, eta_seconds, live
 //   GET  /api/timeseries?since=T   {"columns": [...], "rows": [[...], ...]}: rows with t > T
+//                              (timeseries.csv; steady.csv for capflow steady)
 //   GET  /api/events?since=N   {"next": M, "events": [...]}: events.jsonl lines N.. (0-based)
 //   GET  /api/surfaces         {"times": [...]}: the saved surfaces (the timeline)
 //   GET  /api/frame            an image (serve/frame_query.h for its parameters)
@@ -25,7 +26,7 @@
 #include <string>
 
 #include "serve/control_revision.h"
-#include "serve/frame_service.h"
+#include "serve/frame_drawer.h"
 #include "serve/http.h"
 #include "serve/source.h"
 
@@ -39,7 +40,7 @@ class Api {
 
   // `assets`: the files the page is made of, by name ("index.html", "console.js",
   // "console.css", "chart.min.js"), read once at start.
-  Api(Source& source, FrameService* frames, std::string token,
+  Api(Source& source, FrameDrawer* frames, std::string token,
       std::map<std::string, std::string> assets);
   ~Api();
 
@@ -56,7 +57,7 @@ class Api {
   Response control_post(const Request& r);
 
   Source& source_;
-  FrameService* frames_;
+  FrameDrawer* frames_;
   std::string token_;
   std::map<std::string, std::string> assets_;
   ControlRevision control_;

@@ -10,7 +10,8 @@ namespace {
 
 // A finite number that is the whole text, or nullopt.
 std::optional<double> number(const std::string& s) {
-  if (s.empty() || s.size() > 64) return std::nullopt;
+  if (s.empty() || s.size() > 64 || s.find_first_not_of("0123456789+-.eE") != std::string::npos)
+    return std::nullopt;  // decimal only: no hex, inf, nan or spaces
   char* end = nullptr;
   errno = 0;
   const double v = std::strtod(s.c_str(), &end);

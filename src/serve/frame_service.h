@@ -19,6 +19,7 @@
 
 #include "render/options.h"
 #include "render/snapshot.h"
+#include "serve/frame_drawer.h"
 #include "serve/frame_query.h"
 
 namespace capflow::render {
@@ -27,13 +28,7 @@ class Renderer;
 
 namespace capflow::serve {
 
-struct EncodedFrame {
-  std::string bytes;
-  std::string content_type;  // image/jpeg or image/png
-  double draw_ms = 0, encode_ms = 0;
-};
-
-class FrameService {
+class FrameService : public FrameDrawer {
  public:
   static constexpr int kMaxWaiting = 4;
 
@@ -46,7 +41,7 @@ class FrameService {
   // The image of `s` as `q` asks; nullopt when kMaxWaiting requests already wait (*error says
   // so) or drawing failed (*error: the renderer's message).
   std::optional<EncodedFrame> draw(std::shared_ptr<const render::Snapshot> s, const FrameQuery& q,
-                                   std::string* error);
+                                   std::string* error) override;
 
  private:
   struct Job;

@@ -40,6 +40,11 @@ class Source {
   // The control file an edit is written to ("" when the run takes no edits).
   virtual std::string control_path() const = 0;
   virtual control::Command command() const = 0;
+  // The run directory's table of rows for the plots and the state: timeseries.csv (capflow
+  // run), steady.csv (capflow steady: one row per steady state).
+  std::string series_file() const {
+    return command() == control::Command::Steady ? "steady.csv" : "timeseries.csv";
+  }
   // The run's render settings (colour map, background, overlay): the frames the page shows look
   // like its movie frames.
   virtual render::RenderOptions render_options() const = 0;

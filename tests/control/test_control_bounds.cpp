@@ -142,8 +142,11 @@ TEST(EditPolicy, EachCommandTakesItsLiveKeysFromTheSchema) {
     }
   }
   // the schema says so, for every key
-  for (const FieldInfo& f : control_fields())
-    if (f.mutability == Mutability::Live) EXPECT_TRUE(f.live_for(Command::Run)) << f.path;
+  for (const FieldInfo& f : control_fields()) {
+    if (f.mutability == Mutability::Live) {
+      EXPECT_TRUE(f.live_for(Command::Run)) << f.path;
+    }
+  }
   EXPECT_EQ(s.merged.output.csv_every, before.output.csv_every);
   EXPECT_EQ(s.merged.time.tolerance, 1e-7);
 }
