@@ -19,6 +19,7 @@
 #include "control/control_file.h"
 #include "control/run_events.h"
 #include "files/input_file.h"
+#include "geometry/surface.h"
 
 namespace capflow::app {
 
@@ -63,16 +64,26 @@ RunFeed::RunFeed(const std::string& run_dir, const std::string& control_path,
 void RunFeed::observe(const StateRecord& s) {
   const capsule::Capsule& cap = *s.cap;
   const auto now = clock::now();
+  // The positions of the last two steps (only this thread touches them): the nodes' speed over
+  // the step that ended at the state drawn. A pause or the end reports that state again.
+  if (s.phase == RunPhase::Running && cap.time() != last_t_) {
+    std::swap(prev_x_, last_x_);
+    prev_t_ = last_t_;
+    last_x_ = cap.positions();
+    last_t_ = cap.time();
+  }
   std::unique_lock<std::mutex> lock(mutex_);
   serve::LiveState& st = state_;
   st.t = cap.time();
   st.ca = s.ca;
   st.dt = s.dt;
   st.steps = cap.step_count();
-  st.D = s.m.shape.D;
-  st.L = s.m.shape.L;
-  st.S = s.m.shape.S;
-  st.W = s.m.shape.W;
+  if (s.m.shape.L > 0) {  // measured at this state (a row, frame or surface was due)
+    st.D = s.m.shape.D;
+    st.L = s.m.shape.L;
+    st.S = s.m.shape.S;
+    st.W = s.m.shape.W;
+  }
   st.state = phase_name(s.phase);
   st.live = s.phase == RunPhase::Running || s.phase == RunPhase::Paused;
   // The pace over at least 2 s of wall time.
@@ -91,7 +102,8 @@ void RunFeed::observe(const StateRecord& s) {
   }
   const bool keep = s.phase != RunPhase::Running || !started_;
   const bool watching = now - watched_ < std::chrono::seconds(3);
-  if (!keep && !(watching && now - captured_ >= std::chrono::milliseconds(100))) return;
+  const bool capture = keep || (watching && now - captured_ >= std::chrono::milliseconds(100));
+  if (!capture) return;
   started_ = true;
   captured_ = now;
   if (s.schedule) {
@@ -99,10 +111,18 @@ void RunFeed::observe(const StateRecord& s) {
     st.schedule_next = s.schedule->describe_next();
   }
   lock.unlock();
-  // The tensions outside the lock: the API's readers never wait for them.
+  // The tensions, curvature and speed outside the lock: the API's readers never wait for them.
+  const Eigen::Matrix3Xd& x = cap.positions();
+  const Measures m = s.m.shape.L > 0 ? s.m : measure_state(cap, true);
   auto snap = std::make_shared<render::Snapshot>(state_snapshot(
-      cap, cap.positions(), cap.time(), s.ca, law_,
-      {s.m.shape.D, s.m.shape.L, s.m.shape.S, s.m.shape.W, s.m.tau_max, s.m.tau_min}));
+      cap, x, cap.time(), s.ca, law_,
+      {m.shape.D, m.shape.L, m.shape.S, m.shape.W, m.tau_max, m.tau_min}));
+  const Eigen::VectorXd h = geometry::compute_geometry(cap.mesh(), x).mean_curvature;
+  snap->curvature.assign(h.data(), h.data() + h.size());
+  if (prev_x_.cols() == x.cols() && last_t_ == cap.time() && last_t_ > prev_t_) {
+    const Eigen::VectorXd v = (last_x_ - prev_x_).colwise().norm() / (last_t_ - prev_t_);
+    snap->speed.assign(v.data(), v.data() + v.size());
+  }
   lock.lock();
   newest_ = std::move(snap);
 }

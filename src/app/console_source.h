@@ -2,15 +2,17 @@
 //
 // RunFeed: the run in this process (capflow run --serve). It observes the states the loop
 // reports (RunOutputs::add_observer): their numbers at every step, and a drawable state
-// (positions and tensions, app/frames.h: state_snapshot) at most every 0.1 s of wall time while a
-// client watches (a frame asked for within the last 3 s), and always at the start, a pause and
-// the end. With nobody watching, a step costs it a few stores under an uncontended lock.
+// (positions, tensions - app/frames.h: state_snapshot -, mean curvature, and the nodes' speed
+// |dx/dt| over the step that ended there) at most every 0.1 s of wall time while a client
+// watches (a frame asked for within the last 3 s), and always at the start, a pause and the end.
+// With nobody watching, a step costs it a few stores under an uncontended lock.
 // RunDirectorySource: a run directory (capflow view): the state from its timeseries.csv and
 // events.jsonl, live while another process holds its lock, the newest state to draw from its
 // newest surface or checkpoint (app/saved_state.h), edits to the file in control.source.
 // Both give the timeline from the saved surfaces (surface.pvd, app/surface_files.h).
 #pragma once
 
+#include <Eigen/Dense>
 #include <chrono>
 #include <memory>
 #include <mutex>
@@ -65,6 +67,8 @@ class RunFeed : public serve::Source {
   std::shared_ptr<const render::Snapshot> newest_;
   clock::time_point watched_{}, captured_{};
   double pace_wall_ = -1, pace_t_ = 0;  // the last pace sample: wall seconds and t
+  Eigen::Matrix3Xd prev_x_, last_x_;    // the positions of the last two steps
+  double prev_t_ = -1, last_t_ = -1;
   long pace_steps_ = 0;
   bool started_ = false;
 };

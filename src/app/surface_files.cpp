@@ -56,6 +56,15 @@ render::Snapshot snapshot_from_vtk(const output::VtkSurface& v) {
     const auto* t2 = scalar("tau2");
     s.tau2 = t2 ? *t2 : *t1;
   }
+  if (const auto* h = scalar("mean_curvature")) s.curvature = *h;
+  if (auto it = v.point_arrays.find("velocity");
+      it != v.point_arrays.end() && it->second.components == 3) {
+    const std::vector<double>& u = it->second.values;
+    s.speed.resize(u.size() / 3);
+    for (size_t k = 0; k < s.speed.size(); ++k)
+      s.speed[k] = std::sqrt(u[3 * k] * u[3 * k] + u[3 * k + 1] * u[3 * k + 1] +
+                             u[3 * k + 2] * u[3 * k + 2]);
+  }
   auto field = [&](const char* name, double dflt) {
     auto it = v.field_scalars.find(name);
     return it == v.field_scalars.end() ? dflt : it->second;

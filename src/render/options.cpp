@@ -80,6 +80,10 @@ const char* field_name(ColorField f) {
       return "min";
     case ColorField::MeanTension:
       return "mean";
+    case ColorField::MeanCurvature:
+      return "curvature";
+    case ColorField::Speed:
+      return "speed";
     default:
       return "plain";
   }
@@ -92,6 +96,10 @@ const char* field_label(ColorField f) {
       return "\u03c4\u2082 / G\u209b";
     case ColorField::MeanTension:
       return "(\u03c4\u2081 + \u03c4\u2082) / 2G\u209b";
+    case ColorField::MeanCurvature:
+      return "H a";
+    case ColorField::Speed:
+      return "|u| / G a";
     default:
       return "";
   }

@@ -17,8 +17,10 @@ namespace capflow::render {
 //   YZ: looking along -x, y right, z up;  Custom: eye/target/up below.
 enum class View { Oblique, XY, XZ, YZ, Custom };
 
-// Colour field: tau1 (max principal tension), tau2 (min), (tau1 + tau2)/2, or plain colour.
-enum class ColorField { MaxTension, MinTension, MeanTension, Plain };
+// Colour field: tau1 (max principal tension), tau2 (min), (tau1 + tau2)/2, plain colour; and
+// for the live console (not a control-file choice) the mean curvature H (1/a: 1 on the unit
+// sphere) and the nodes' speed |dx/dt| (G a), from the snapshot's optional arrays.
+enum class ColorField { MaxTension, MinTension, MeanTension, Plain, MeanCurvature, Speed };
 enum class ColorMap { Viridis, CoolWarm };  // assets/viridis.csv, assets/coolwarm.csv
 // Edge anti-aliasing. Multisample: `msaa` samples per pixel. Lines: no multisampling; the element
 // edges and the surface's outline (render/silhouette.h) are drawn as smooth (coverage-blended)

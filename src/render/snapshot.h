@@ -31,6 +31,8 @@ struct Snapshot {
   std::vector<double> x;     // 3 * ne*nb*nb node positions
   std::vector<double> tau1;  // ne*nb*nb (or empty)
   std::vector<double> tau2;  // ne*nb*nb (or empty)
+  std::vector<double> curvature;  // mean curvature H at the nodes, ne*nb*nb (or empty)
+  std::vector<double> speed;      // |dx/dt| at the nodes, ne*nb*nb (or empty)
   double time = 0;           // simulated time (units of 1/shear rate)
   double ca = 0;             // capillary number
   std::string law;           // membrane law name, e.g. "neo-Hookean"
@@ -51,6 +53,9 @@ struct Snapshot {
     if (x.size() != 3 * n) return fail("snapshot: x must hold 3*ne*nb*nb values");
     if (!tau1.empty() && tau1.size() != n) return fail("snapshot: tau1 must hold ne*nb*nb");
     if (tau2.size() != tau1.size()) return fail("snapshot: tau2 must match tau1");
+    if (!curvature.empty() && curvature.size() != n)
+      return fail("snapshot: curvature must hold ne*nb*nb");
+    if (!speed.empty() && speed.size() != n) return fail("snapshot: speed must hold ne*nb*nb");
     return true;
   }
 };

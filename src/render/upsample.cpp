@@ -14,6 +14,11 @@ namespace capflow::render {
 std::vector<double> nodal_field(const Snapshot& s, ColorField f) {
   const size_t n = static_cast<size_t>(s.num_nodes());
   std::vector<double> v(n, 0.0);
+  if (f == ColorField::MeanCurvature || f == ColorField::Speed) {
+    const std::vector<double>& a = f == ColorField::Speed ? s.speed : s.curvature;
+    if (a.size() == n) v = a;
+    return v;
+  }
   if (f == ColorField::Plain || s.tau1.size() != n) return v;
   for (size_t k = 0; k < n; ++k) {
     switch (f) {

@@ -78,8 +78,10 @@ FrameQuery parse_frame_query(const Request& r, std::string* error) {
     else if (f == "tau2") q.field = render::ColorField::MinTension;
     else if (f == "mean") q.field = render::ColorField::MeanTension;
     else if (f == "plain") q.field = render::ColorField::Plain;
+    else if (f == "curvature") q.field = render::ColorField::MeanCurvature;
+    else if (f == "speed") q.field = render::ColorField::Speed;
     else {
-      *error = "field must be one of tau1, tau2, mean, plain";
+      *error = "field must be one of tau1, tau2, mean, curvature, speed, plain";
       return q;
     }
   }

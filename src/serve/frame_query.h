@@ -3,7 +3,7 @@
 //   yaw, pitch, zoom  the orbit camera (serve/orbit.h): yaw in [-3600, 3600], pitch in [-90, 90]
 //                     degrees, zoom in [0.05, 20]; or view=oblique|xy|xz|yz (a preset, zoom
 //                     still applies)
-//   field             tau1 | tau2 | mean | plain (default tau1)
+//   field             tau1 | tau2 | mean | curvature | speed | plain (default tau1)
 //   range             grow | frame (the colour range: grown over the frames drawn, or each
 //                     frame's own; default grow)
 //   width, height     even, in [64, 2560] x [64, 1440] (default 1280 x 720)
