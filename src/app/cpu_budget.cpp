@@ -143,12 +143,17 @@ bool start_solver_threads() {
 }
 
 void renderer_busy(bool busy) {
+  // Several renderers (the movie's, the live console's) may be busy at once: the cap holds until
+  // the last of them is idle.
+  static std::atomic<int> busy_count{0};
   int n = g_solver_threads.load(std::memory_order_relaxed);
   if (n <= 0) n = std::max(1, omp_get_max_threads());
   if (busy) {
-    stokes::set_thread_cap(std::max(1, n - 1));  // the idle threads lowered by on_cap_change
+    if (busy_count.fetch_add(1) == 0)
+      stokes::set_thread_cap(std::max(1, n - 1));  // the idle threads lowered by on_cap_change
     return;
   }
+  if (busy_count.fetch_sub(1) != 1) return;
   {
     std::lock_guard<std::mutex> l(g_team_mu);
     if (g_may_renice) renice_idle_threads(0);  // back first: the next call uses every thread

@@ -48,8 +48,9 @@ int creatable_threads(int wanted);
 // while a frame is pending and lowered back after it (root, CAP_SYS_NICE or RLIMIT_NICE).
 bool start_solver_threads();
 
-// RenderThread's busy callback: caps the solver's operators at one thread fewer while true.
-// Thread-safe.
+// The renderers' busy callback (RenderThread's, the live console's FrameService): caps the
+// solver's operators at one thread fewer while any of them is busy (calls come in pairs: true,
+// then false). Thread-safe.
 void renderer_busy(bool busy);
 
 // The renderer's one-core default, set in the environment before its GL context exists:

@@ -5,6 +5,7 @@
 #include <thread>
 
 #include "app/console.h"
+#include "app/cpu_budget.h"
 #include "app/errors.h"
 #include "serve/api.h"
 #include "serve/frame_service.h"
@@ -40,7 +41,9 @@ LiveConsole::LiveConsole(serve::Source& source, const ServeOptions& o)
     throw UserError(std::string("--serve: the console's page is missing: ") + e.what());
   }
   const std::string token = serve::new_token();
-  frames_ = std::make_unique<serve::FrameService>(source.render_options());
+  // The frames' renderer shares the cores with the solver as the movie's does.
+  render_cpu_defaults();
+  frames_ = std::make_unique<serve::FrameService>(source.render_options(), renderer_busy);
   api_ = std::make_unique<serve::Api>(source, frames_.get(), token, std::move(assets));
   try {
     server_ = std::make_unique<serve::HttpServer>(*api_, address);

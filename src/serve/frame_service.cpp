@@ -18,7 +18,8 @@ struct FrameService::Job {
   std::string error;
 };
 
-FrameService::FrameService(render::RenderOptions base) : base_(std::move(base)) {
+FrameService::FrameService(render::RenderOptions base, std::function<void(bool)> on_busy)
+    : base_(std::move(base)), on_busy_(std::move(on_busy)) {
   // The console draws images; the movie's writers and preview stay the run's.
   base_.png = base_.mp4 = base_.preview = false;
   thread_ = std::thread([this] { loop(); });
@@ -51,6 +52,17 @@ std::optional<EncodedFrame> FrameService::draw(std::shared_ptr<const render::Sna
 }
 
 void FrameService::loop() {
+  // The GL driver is loaded now, at the start, before a solver beside it starts its threads
+  // (app/cpu_budget.h: start_solver_threads), not at the first request.
+  try {
+    FrameQuery first;
+    first.width = base_.width;
+    first.height = base_.height;
+    first.field = base_.field;
+    make_renderer(first);
+  } catch (const std::exception&) {
+    renderer_.reset();  // the first request tries again and reports the error
+  }
   for (;;) {
     std::shared_ptr<Job> job;
     {
@@ -59,11 +71,13 @@ void FrameService::loop() {
       if (jobs_.empty()) break;  // quit_ with nothing left
       job = jobs_.front();
     }
+    if (on_busy_) on_busy_(true);
     try {
       job->frame = render(*job->snapshot, job->query);
     } catch (const std::exception& e) {
       job->error = e.what();
     }
+    if (on_busy_) on_busy_(false);
     {
       std::lock_guard<std::mutex> lock(mutex_);
       jobs_.pop_front();
@@ -74,22 +88,26 @@ void FrameService::loop() {
   renderer_.reset();  // its GL context belongs to this thread
 }
 
+void FrameService::make_renderer(const FrameQuery& q) {
+  if (renderer_ && key_w_ == q.width && key_h_ == q.height && key_field_ == q.field &&
+      key_range_ == q.range)
+    return;
+  render::RenderOptions o = base_;
+  o.width = q.width;
+  o.height = q.height;
+  o.field = q.field;
+  o.range_mode = q.range;
+  renderer_.reset();
+  renderer_ = std::make_unique<render::Renderer>(o);
+  key_w_ = q.width;
+  key_h_ = q.height;
+  key_field_ = q.field;
+  key_range_ = q.range;
+}
+
 EncodedFrame FrameService::render(const render::Snapshot& s, const FrameQuery& q) {
   using clock = std::chrono::steady_clock;
-  if (!renderer_ || key_w_ != q.width || key_h_ != q.height || key_field_ != q.field ||
-      key_range_ != q.range) {
-    render::RenderOptions o = base_;
-    o.width = q.width;
-    o.height = q.height;
-    o.field = q.field;
-    o.range_mode = q.range;
-    renderer_.reset();
-    renderer_ = std::make_unique<render::Renderer>(o);
-    key_w_ = q.width;
-    key_h_ = q.height;
-    key_field_ = q.field;
-    key_range_ = q.range;
-  }
+  make_renderer(q);
   renderer_->set_camera(orbit_camera(q.orbit, s, base_.camera));
   EncodedFrame f;
   render::Image img;

@@ -5,12 +5,14 @@
 //
 // draw() hands a state and a query to the thread and waits for the encoded image. One renderer
 // is kept for the last (size, field, range) asked for; another combination makes a new one (its
-// GL context: ~0.1 s). At most kMaxWaiting requests wait: more are refused at once (busy), so
-// that a flood of requests queues nothing. The GL context is made lazily, at the first request.
+// GL context: ~0.05 s). At most kMaxWaiting requests wait: more are refused at once (busy), so
+// that a flood of requests queues nothing. The first renderer (the run's size and field) is made
+// when the service starts, so that the GL driver is loaded before a solver starts its threads.
 #pragma once
 
 #include <condition_variable>
 #include <deque>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -33,7 +35,9 @@ class FrameService : public FrameDrawer {
   static constexpr int kMaxWaiting = 4;
 
   // `base`: the run's render settings (colour map, background, overlay, anti-aliasing).
-  explicit FrameService(render::RenderOptions base);
+  // `on_busy` (optional): called with true before an image is drawn and false after it, so that
+  // a solver beside it can leave it a core (app/cpu_budget.h).
+  explicit FrameService(render::RenderOptions base, std::function<void(bool)> on_busy = nullptr);
   ~FrameService();
   FrameService(const FrameService&) = delete;
   FrameService& operator=(const FrameService&) = delete;
@@ -47,8 +51,10 @@ class FrameService : public FrameDrawer {
   struct Job;
   void loop();
   EncodedFrame render(const render::Snapshot& s, const FrameQuery& q);
+  void make_renderer(const FrameQuery& q);
 
   render::RenderOptions base_;
+  std::function<void(bool)> on_busy_;
   std::unique_ptr<render::Renderer> renderer_;
   int key_w_ = 0, key_h_ = 0;
   render::ColorField key_field_{};

@@ -88,6 +88,17 @@ def main():
         c.wait(lambda: b2.find_element(By.CSS_SELECTOR, '[data-path="output.csv_every"]')
                .get_attribute("value") == "0.04", "the second browser shows csv_every = 0.04", 10)
 
+        # A hand edit of the file shows up in the page within a second.
+        doc = json.load(open(control_path))
+        doc["output"]["csv_every"] = 0.03
+        with open(control_path + ".tmp", "w") as f:
+            json.dump(doc, f)
+        os.replace(control_path + ".tmp", control_path)
+        edited = time.time()
+        c.wait(lambda: b1.find_element(By.CSS_SELECTOR, '[data-path="output.csv_every"]')
+               .get_attribute("value") == "0.03", "the hand edit in the page", 5)
+        assert time.time() - edited < 1.0, "the hand edit took %.2f s to show" % (time.time() - edited)
+
         # A refused value shows the schema's message next to its field.
         tol = b1.find_element(By.CSS_SELECTOR, '[data-path="time.tolerance"]')
         tol.clear()
