@@ -16,6 +16,7 @@ Usage: benchmarks/app/console_budget.py [BUILD_DIR] [ROUNDS]   (defaults: build,
 import json
 import os
 import re
+import resource
 import shutil
 import statistics
 import subprocess
@@ -110,10 +111,12 @@ class Client:
 
 def budget(exe, rounds):
     walls = {"plain": [], "serve": [], "watch": []}
+    cpus = {"plain": [], "serve": [], "watch": []}
     latencies, frames = [], []
     for r in range(rounds):
         for mode in ("plain", "serve", "watch"):
             out = tempfile.mkdtemp(prefix="capflow_console_")
+            ru = resource.getrusage(resource.RUSAGE_CHILDREN)
             p, t0, url = start(exe, out, mode != "plain")
             client = None
             threads = []
@@ -124,6 +127,8 @@ def budget(exe, rounds):
                     th.start()
             p.wait()
             walls[mode].append(time.monotonic() - t0)
+            ru2 = resource.getrusage(resource.RUSAGE_CHILDREN)
+            cpus[mode].append(ru2.ru_utime + ru2.ru_stime - ru.ru_utime - ru.ru_stime)
             if client:
                 client.stop = True
                 for th in threads:
@@ -134,13 +139,17 @@ def budget(exe, rounds):
             shutil.rmtree(out)
         print(f"round {r + 1}: " + ", ".join(f"{m} {walls[m][-1]:.2f} s" for m in walls), flush=True)
     med = {m: statistics.median(v) for m, v in walls.items()}
-    print("\n| run | wall s (median) | / without --serve (median of rounds) | per round |")
-    print("|---|---|---|---|")
-    print(f"| without --serve | {med['plain']:.2f} | 1 | |")
+    cmed = {m: statistics.median(v) for m, v in cpus.items()}
+    print("\n| run | wall s (median) | wall / without --serve (median of rounds) | per round | "
+          "CPU s (median) | CPU / without --serve |")
+    print("|---|---|---|---|---|---|")
+    print(f"| without --serve | {med['plain']:.2f} | 1 | | {cmed['plain']:.2f} | 1 |")
     for m, name in (("serve", "--serve, no client"), ("watch", "--serve, one client at the page's cadence")):
         ratios = [a / b for a, b in zip(walls[m], walls["plain"])]
+        cratios = [a / b for a, b in zip(cpus[m], cpus["plain"])]
         print(f"| {name} | {med[m]:.2f} | **{statistics.median(ratios):.3f}** | "
-              f"{' '.join(f'{x:.3f}' for x in ratios)} |")
+              f"{' '.join(f'{x:.2f}' for x in ratios)} | {cmed[m]:.2f} | "
+              f"{statistics.median(cratios):.3f} |")
     latencies.sort()
     print(f"\nframes drawn per watched run: {' '.join(map(str, frames))}")
     print(f"a row's time from the file to the client: median {1000 * statistics.median(latencies):.0f} ms, "

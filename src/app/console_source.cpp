@@ -63,7 +63,6 @@ RunFeed::RunFeed(const std::string& run_dir, const std::string& control_path,
 
 void RunFeed::observe(const StateRecord& s) {
   const capsule::Capsule& cap = *s.cap;
-  const auto now = clock::now();
   // The positions of the last two steps (only this thread touches them): the nodes' speed over
   // the step that ended at the state drawn. A pause or the end reports that state again.
   if (s.phase == RunPhase::Running && cap.time() != last_t_) {
@@ -101,11 +100,9 @@ void RunFeed::observe(const StateRecord& s) {
     pace_steps_ = st.steps;
   }
   const bool keep = s.phase != RunPhase::Running || !started_;
-  const bool watching = now - watched_ < std::chrono::seconds(3);
-  const bool capture = keep || (watching && now - captured_ >= std::chrono::milliseconds(100));
-  if (!capture) return;
+  if (!keep && !wanted_) return;
   started_ = true;
-  captured_ = now;
+  wanted_ = false;
   if (s.schedule) {
     st.schedule_now = s.schedule->describe(st.t);
     st.schedule_next = s.schedule->describe_next();
@@ -125,6 +122,9 @@ void RunFeed::observe(const StateRecord& s) {
   }
   lock.lock();
   newest_ = std::move(snap);
+  ++captures_;
+  lock.unlock();
+  fresh_.notify_all();
 }
 
 serve::LiveState RunFeed::state() {
@@ -133,13 +133,13 @@ serve::LiveState RunFeed::state() {
 }
 
 std::shared_ptr<const render::Snapshot> RunFeed::newest() {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::unique_lock<std::mutex> lock(mutex_);
+  if (state_.state != "running") return newest_;
+  // The next step's state: drawn states are made only when asked for.
+  const long seen = captures_;
+  wanted_ = true;
+  fresh_.wait_for(lock, std::chrono::milliseconds(250), [&] { return captures_ != seen; });
   return newest_;
-}
-
-void RunFeed::watched() {
-  std::lock_guard<std::mutex> lock(mutex_);
-  watched_ = clock::now();
 }
 
 // ---- a run directory ------------------------------------------------------------------------

@@ -3,9 +3,10 @@
 // RunFeed: the run in this process (capflow run --serve). It observes the states the loop
 // reports (RunOutputs::add_observer): their numbers at every step, and a drawable state
 // (positions, tensions - app/frames.h: state_snapshot -, mean curvature, and the nodes' speed
-// |dx/dt| over the step that ended there) at most every 0.1 s of wall time while a client
-// watches (a frame asked for within the last 3 s), and always at the start, a pause and the end.
-// With nobody watching, a step costs it a few stores under an uncontended lock.
+// |dx/dt| over the step that ended there) when a client asks for an image (newest() waits up to
+// 0.25 s for the next step's state while the run goes on), and always at the start, a pause and
+// the end. With nobody watching, a step costs it a few stores under an uncontended lock and a
+// copy of the positions.
 // RunDirectorySource: a run directory (capflow view): the state from its timeseries.csv and
 // events.jsonl, live while another process holds its lock, the newest state to draw from its
 // newest surface or checkpoint (app/saved_state.h), edits to the file in control.source.
@@ -14,6 +15,7 @@
 
 #include <Eigen/Dense>
 #include <chrono>
+#include <condition_variable>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -48,7 +50,6 @@ class RunFeed : public serve::Source {
 
   serve::LiveState state() override;
   std::shared_ptr<const render::Snapshot> newest() override;
-  void watched() override;
   std::shared_ptr<const render::Snapshot> saved(double t) override { return surfaces_.at(t); }
   std::vector<double> saved_times() override { return surfaces_.times(); }
   std::string run_dir() const override { return dir_; }
@@ -65,7 +66,9 @@ class RunFeed : public serve::Source {
   std::mutex mutex_;
   serve::LiveState state_;
   std::shared_ptr<const render::Snapshot> newest_;
-  clock::time_point watched_{}, captured_{};
+  bool wanted_ = false;            // a client waits for a newer state to draw
+  long captures_ = 0;              // states kept for drawing so far
+  std::condition_variable fresh_;  // a state was kept
   double pace_wall_ = -1, pace_t_ = 0;  // the last pace sample: wall seconds and t
   Eigen::Matrix3Xd prev_x_, last_x_;    // the positions of the last two steps
   double prev_t_ = -1, last_t_ = -1;
