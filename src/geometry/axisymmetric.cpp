@@ -78,6 +78,32 @@ ProfilePoint profile_point(const AxisymmetricProfile& p, long double theta) {
   return q;
 }
 
+namespace {
+
+// 8th-order central difference of f at t with step h.
+template <class F>
+LD central(F f, LD t, LD h) {
+  static const LD c[4] = {4.0L / 5, -1.0L / 5, 4.0L / 105, -1.0L / 280};
+  LD s = 0;
+  for (int k = 1; k <= 4; ++k) s += c[k - 1] * (f(t + k * h) - f(t - k * h));
+  return s / h;
+}
+
+}  // namespace
+
+long double profile_laplacian_H(const AxisymmetricProfile& p, long double theta) {
+  const LD h = 1e-3L;
+  const auto speed = [&](LD th) {
+    const Derivs d = derivs(p, th);
+    return std::sqrt(d.r1 * d.r1 + d.z1 * d.z1) * p.scale;
+  };
+  const auto H = [&](LD th) { return profile_point(p, th).H; };
+  const auto flux = [&](LD th) {
+    return profile_point(p, th).r / speed(th) * central(H, th, h);
+  };
+  return central(flux, theta, h) / (profile_point(p, theta).r * speed(theta));
+}
+
 long double profile_area(const AxisymmetricProfile& p, int n) {
   return 2 * p.scale * p.scale * integrate(n, [&](LD th) {
            const Derivs d = derivs(p, th);

@@ -28,6 +28,10 @@ struct ProfilePoint {
 };
 
 ProfilePoint profile_point(const AxisymmetricProfile& p, long double theta);
+// Lap_s H at theta (1/length^3): (1/(r |v|)) d/dtheta (r/|v| dH/dtheta), dH/dtheta and the outer
+// derivative by 8th-order central differences in long double (step 1e-3: ~1e-11 relative);
+// theta in (0, pi/2) (the pole and the rim are limits it does not take).
+long double profile_laplacian_H(const AxisymmetricProfile& p, long double theta);
 // n-point Gauss-Legendre in theta (n = 48 is at the long double round-off for the shapes here).
 long double profile_area(const AxisymmetricProfile& p, int n = 48);
 long double profile_volume(const AxisymmetricProfile& p, int n = 48);
