@@ -49,7 +49,7 @@ TEST(FrameQuery, BadValuesNameTheParameterAndItsRange) {
         Case{"pitch", "90.5", "[-90, 90]"}, Case{"zoom", "0", "[0.05, 20]"},
         Case{"zoom", "inf", "zoom"}, Case{"width", "641", "even"}, Case{"width", "8000", "2560"},
         Case{"height", "-2", "height"}, Case{"height", "2e3", "1440"},
-        Case{"time", "abc", "time"}, Case{"field", "speed", "tau1"}, Case{"range", "fixed", "grow"},
+        Case{"time", "abc", "time"}, Case{"field", "pressure", "tau1"}, Case{"range", "fixed", "grow"},
         Case{"format", "gif", "jpeg"}, Case{"view", "top", "oblique"}, Case{"yaw", "", "yaw"},
         Case{"yaw", "1 ", "yaw"}, Case{"width", "0x100", "width"}}) {
     std::string e;
