@@ -61,14 +61,17 @@ stokes::QuadratureOptions quadrature_rules(const geometry::Mesh& mesh, const Dyn
 Capsule::Capsule(const geometry::Mesh& mesh, const membrane::LawOptions& law, const Flow& flow,
                  const DynamicsOptions& options)
     : mesh_(mesh), flow_(flow), opt_(options) {
-  ref_basis_ = tangent_basis(mesh, mesh.reference());
+  const Eigen::Matrix3Xd reference = geometry::reference_positions(mesh, opt_.shape);
+  ref_basis_ = tangent_basis(mesh, reference);
   {
     // The membrane's reference tangents are those the dynamics sees for the reference shape,
     // so the undeformed capsule is exactly stress-free.
     Eigen::Matrix3Xd t1, t2;
-    tangents(mesh.reference(), &t1, &t2);
+    tangents(reference, &t1, &t2);
     membrane_ = std::make_unique<membrane::Membrane>(mesh, t1, t2, membrane::make_law(law));
   }
+  if (opt_.bending.enabled())
+    bending_ = std::make_unique<membrane::Bending>(mesh, reference, opt_.bending);
   ops_ = std::make_unique<stokes::BoundaryOperators>(mesh, quadrature_rules(mesh, opt_));
   symmetry_ = std::make_unique<SymmetryMap>(mesh, symmetry_for(flow_, opt_.symmetry));
   no_symmetry_ = std::make_unique<SymmetryMap>(mesh, SymmetryKind::None);
@@ -80,7 +83,7 @@ Capsule::Capsule(const geometry::Mesh& mesh, const membrane::LawOptions& law, co
     lambda_solver_full_ =
         std::make_unique<ViscosityRatioSolver>(*ops_, *no_symmetry_, opt_.viscosity_ratio, g);
   }
-  x_ = mesh.reference();
+  x_ = reference;
   // The nodal sphere is C1 across element edges only to discretisation accuracy; start from its
   // smoothed version so that V0 (and the volume drift) refers to the state actually advanced.
   if (opt_.smooth_geometry && opt_.smoothing == SmoothingMethod::NodalReconstruction)
@@ -125,6 +128,7 @@ Eigen::Matrix3Xd Capsule::traction(const Eigen::Matrix3Xd& x) const {
     else
       smooth_first_order(mesh_, tangent_basis(mesh_, x), &f);
   }
+  if (bending_) f += bending_->load(x);  // continuous across edges already
   return f;
 }
 

@@ -26,6 +26,8 @@
 #include "capsule/symmetry.h"
 #include "capsule/viscosity_ratio.h"
 #include "geometry/mesh.h"
+#include "geometry/reference_shape.h"
+#include "membrane/bending.h"
 #include "membrane/law.h"
 #include "membrane/membrane.h"
 #include "stokes/boundary_integral.h"
@@ -62,6 +64,10 @@ struct DynamicsOptions {
   // Factor on every order of `quadrature` after its defaults are resolved for the mesh
   // (stokes::scale_orders, far = own = near); 1 leaves the rules unchanged.
   double quadrature_scale = 1.0;
+  // The stress-free reference shape, also the initial shape (geometry/reference_shape.h).
+  geometry::ReferenceShape shape;
+  // Bending stiffness (membrane/bending.h): its load adds to the elastic traction.
+  membrane::BendingOptions bending;
 };
 
 // The rules a Capsule with these options uses: options.quadrature with its defaults resolved for
@@ -161,6 +167,7 @@ class Capsule {
   Flow flow_;
   DynamicsOptions opt_;
   std::unique_ptr<membrane::Membrane> membrane_;
+  std::unique_ptr<membrane::Bending> bending_;  // null without bending
   std::unique_ptr<stokes::BoundaryOperators> ops_;
   std::unique_ptr<SymmetryMap> symmetry_;
   std::unique_ptr<SymmetryMap> no_symmetry_;

@@ -175,6 +175,8 @@ capsule::DynamicsOptions dynamics_options(const ControlOptions& o) {
   d.volume_correction = o.numerics.volume_correction;
   d.symmetry = o.numerics.symmetry ? capsule::SymmetryChoice::Auto : capsule::SymmetryChoice::None;
   d.quadrature_scale = o.numerics.quadrature_scale;
+  d.shape = o.shape;
+  d.bending = o.bending;
   return d;
 }
 

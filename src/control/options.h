@@ -13,6 +13,8 @@
 #include "capsule/flow.h"
 #include "geometry/mesh.h"
 #include "membrane/law.h"
+#include "geometry/reference_shape.h"
+#include "membrane/bending.h"
 #include "render/context.h"
 #include "render/options.h"
 
@@ -140,6 +142,8 @@ struct ControlOptions {
   std::string description;       // "description"
   membrane::LawOptions law;      // "capsule.law", "capsule.C", "capsule.psi"
   double viscosity_ratio = 1.0;  // "capsule.viscosity_ratio"
+  geometry::ReferenceShape shape;     // "capsule.shape": the stress-free and initial shape
+  membrane::BendingOptions bending;   // "capsule.bending.*"
   MeshOptions mesh;              // "mesh"
   StartOptions start;            // "start"
   capsule::Flow flow;            // "flow.type", "flow.gradient"

@@ -479,6 +479,82 @@ std::vector<Field> build_fields() {
   t.push_back(number(
       "capsule.psi", [](O& o) -> double& { return o.law.psi; }, closed(0, 1),
       "the Mooney-Rivlin parameter psi", "", kFrozen, "Mooney-Rivlin parameter (1 = neo-Hookean)"));
+  t.push_back(custom(
+      {"capsule.shape", "string or object",
+       "\"sphere\" | \"biconcave\" | {\"biconcave\": {\"axis\": A}} | {\"spheroid\": "
+       "{\"aspect\": r in [0.1, 10], \"axis\": A}}, A one of \"x\", \"y\", \"z\" (default z)",
+       "\"sphere\"", "a", kFrozen,
+       "the stress-free reference shape, also the initial shape, scaled to the equal-volume "
+       "radius a: a sphere, the Evans-Fung red blood cell, or a spheroid with polar/equatorial "
+       "aspect r (> 1 prolate), about their symmetry axis"},
+      [](const json& v, ReadContext& c) {
+        geometry::ReferenceShape& s = c.options.shape;
+        s = geometry::ReferenceShape{};
+        if (v.is_string() && v.get<std::string>() == "sphere") return;
+        if (v.is_string() && v.get<std::string>() == "biconcave") {
+          s.kind = geometry::ReferenceShape::Kind::Biconcave;
+          return;
+        }
+        auto sp = v.is_object() && v.size() == 1 ? v.find("spheroid") : v.end();
+        bool spheroid = true;
+        if (v.is_object() && v.size() == 1 && sp == v.end()) {
+          sp = v.find("biconcave");
+          spheroid = false;
+        }
+        if (sp == v.end() || !sp->is_object())
+          return add_error(c, "capsule.shape",
+                           "value " + show(v) + " is not valid: give \"sphere\", \"biconcave\", "
+                           "{\"biconcave\": {\"axis\": \"x\"}} or {\"spheroid\": {\"aspect\": r, "
+                           "\"axis\": \"z\"}}");
+        const std::string at = std::string("capsule.shape.") + (spheroid ? "spheroid." : "biconcave.");
+        s.kind = spheroid ? geometry::ReferenceShape::Kind::Spheroid
+                          : geometry::ReferenceShape::Kind::Biconcave;
+        for (auto it = sp->begin(); it != sp->end(); ++it) {
+          if (it.key() == "aspect" && spheroid) {
+            if (!it->is_number() || !(it->get<double>() >= 0.1 && it->get<double>() <= 10))
+              return add_error(c, at + "aspect",
+                               "value " + show(*it) + " is out of range: the aspect must be a "
+                               "number in [0.1, 10]");
+            s.aspect = it->get<double>();
+          } else if (it.key() == "axis") {
+            const std::string a = it->is_string() ? it->get<std::string>() : "";
+            if (a != "x" && a != "y" && a != "z")
+              return add_error(c, at + "axis",
+                               "value " + show(*it) + " is not valid: \"x\", \"y\" or \"z\"");
+            s.axis = a == "x" ? 0 : a == "y" ? 1 : 2;
+          } else {
+            return add_error(c, at + it.key(),
+                             spheroid ? "is not a key of a spheroid (aspect, axis)"
+                                      : "is not a key of the biconcave shape (axis)");
+          }
+        }
+        if (spheroid && sp->find("aspect") == sp->end())
+          add_error(c, "capsule.shape.spheroid.aspect", "is required (a number in [0.1, 10])");
+      },
+      [](const O& o) -> std::optional<json> {
+        const geometry::ReferenceShape& s = o.shape;
+        const std::string axis(1, "xyz"[s.axis]);
+        if (s.kind == geometry::ReferenceShape::Kind::Spheroid)
+          return json{{"spheroid", {{"aspect", s.aspect}, {"axis", axis}}}};
+        if (s.kind == geometry::ReferenceShape::Kind::Biconcave && s.axis != 2)
+          return json{{"biconcave", {{"axis", axis}}}};
+        return json(geometry::shape_name(s.kind));
+      },
+      [](O& dst, const O& src) { dst.shape = src.shape; }));
+  t.push_back(number(
+      "capsule.bending.modulus", [](O& o) -> double& { return o.bending.modulus; }, closed(0, 1),
+      "the bending modulus Eb", "Gs a^2", kFrozen,
+      "Eb = kappa_b / (Gs a^2), the bending stiffness (0: none; red blood cells ~5e-3)"));
+  t.push_back(choice(
+      "capsule.bending.model", [](const O& o) { return static_cast<int>(o.bending.model); },
+      [](O& o, int i) { o.bending.model = static_cast<membrane::BendingModel>(i); },
+      {"helfrich", "reference"}, kFrozen,
+      "helfrich: W = (kappa_b/2) INT (2H - c0)^2 dA with a uniform c0; reference: c0 = 2H of the "
+      "reference shape at each material point (shape memory)"));
+  t.push_back(number(
+      "capsule.bending.c0", [](O& o) -> double& { return o.bending.c0; }, closed(-10, 10),
+      "the spontaneous curvature c0", "1/a", kFrozen,
+      "spontaneous curvature of the helfrich model (2/a: the sphere's own)"));
   t.push_back(number(
       "capsule.viscosity_ratio", [](O& o) -> double& { return o.viscosity_ratio; },
       open_closed(0, capsule::kMaxViscosityRatio), "the viscosity ratio", "", kFrozen,
@@ -767,6 +843,7 @@ std::vector<Field> build_fields() {
 std::vector<Group> build_groups() {
   std::vector<Group> g = {
       {"capsule", "the membrane", nullptr, nullptr},
+      {"capsule.bending", "bending stiffness (method.md sec. 10)", nullptr, nullptr},
       {"mesh", "the spectral element mesh", nullptr, nullptr},
       {"start", "the initial shape", nullptr, nullptr},
       {"flow", "the imposed flow", nullptr, nullptr},

@@ -376,3 +376,38 @@ TEST(Flow, DescriptionsMatchTheVelocityGradient) {
             "planar extension (stretching along x, compressing along y)");
   EXPECT_EQ(Flow::custom(Eigen::Matrix3d::Zero()).description(), "custom velocity gradient");
 }
+
+namespace capflow::capsule {
+namespace {
+
+// Milestone 15: a capsule of another reference shape starts stress-free at that shape - with the
+// reference bending model, bending-free too - so it moves with the flow; Helfrich bending loads it.
+TEST(Capsule, ReferenceShapesStartStressFree) {
+  const geometry::Mesh mesh(6, 10);
+  geometry::ReferenceShape rbc;
+  rbc.kind = geometry::ReferenceShape::Kind::Biconcave;
+  rbc.axis = 0;
+  geometry::ReferenceShape prolate;
+  prolate.kind = geometry::ReferenceShape::Kind::Spheroid;
+  prolate.aspect = 2;
+  for (const geometry::ReferenceShape& s : {rbc, prolate}) {
+    DynamicsOptions o;
+    o.shape = s;
+    o.bending.modulus = 0.005;
+    o.bending.model = membrane::BendingModel::Reference;
+    Capsule cap(mesh, membrane::LawOptions{}, Flow::simple_shear(), o);
+    const Eigen::Matrix3Xd x0 = geometry::reference_positions(mesh, s);
+    EXPECT_EQ((cap.positions() - x0).cwiseAbs().maxCoeff(), 0.0) << "the initial shape";
+    EXPECT_NEAR(cap.initial_volume(), 4 * M_PI / 3, 1e-6) << "equal-volume radius 1";
+    EXPECT_LT(cap.traction(x0).cwiseAbs().maxCoeff(), 1e-9);
+    const Eigen::Matrix3Xd u = cap.velocity(x0, 0.1);
+    EXPECT_LT((u - Flow::simple_shear().gradient * x0).cwiseAbs().maxCoeff(), 1e-9);
+    // Helfrich bending (c0 = 0) loads the same shape.
+    o.bending.model = membrane::BendingModel::Helfrich;
+    Capsule bent(mesh, membrane::LawOptions{}, Flow::simple_shear(), o);
+    EXPECT_GT(bent.traction(x0).cwiseAbs().maxCoeff(), 1e-3);
+  }
+}
+
+}  // namespace
+}  // namespace capflow::capsule

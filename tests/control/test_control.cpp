@@ -425,3 +425,52 @@ TEST(ControlFile, MeshDivision) {
       issue_at(R"({"ca": 0.4, "mesh": {"elements": 10, "division": "diagonal"}})", "mesh.division"),
       "needs 6 elements");
 }
+
+// Milestone 15: the reference shape and the bending stiffness.
+TEST(ControlFile, ReferenceShapesAndBending) {
+  using Kind = capflow::geometry::ReferenceShape::Kind;
+  ControlOptions o = parse_control(kMinimal).options;
+  EXPECT_EQ(o.shape.kind, Kind::Sphere);
+  EXPECT_EQ(o.bending.modulus, 0.0);
+  o = parse_control(R"({"ca": 0.1, "capsule": {"shape": "biconcave",
+                        "bending": {"modulus": 0.005, "model": "reference"}}})").options;
+  EXPECT_EQ(o.shape.kind, Kind::Biconcave);
+  EXPECT_EQ(o.shape.axis, 2);
+  EXPECT_EQ(o.bending.modulus, 0.005);
+  EXPECT_EQ(o.bending.model, capflow::membrane::BendingModel::Reference);
+  o = parse_control(R"({"ca": 0.1, "capsule": {"shape": {"spheroid": {"aspect": 0.5, "axis": "x"}},
+                        "bending": {"modulus": 0.01, "c0": 2}}})").options;
+  EXPECT_EQ(o.shape.kind, Kind::Spheroid);
+  EXPECT_EQ(o.shape.aspect, 0.5);
+  EXPECT_EQ(o.shape.axis, 0);
+  EXPECT_EQ(o.bending.c0, 2.0);
+  // The effective control file round-trips.
+  const ControlOptions back = parse_control(to_json_text(o)).options;
+  EXPECT_EQ(back.shape.kind, Kind::Spheroid);
+  EXPECT_EQ(back.shape.axis, 0);
+  EXPECT_EQ(back.bending.c0, 2.0);
+  o = parse_control(R"({"ca": 0.1, "capsule": {"shape": {"biconcave": {"axis": "y"}}}})").options;
+  EXPECT_EQ(o.shape.axis, 1);
+  EXPECT_EQ(parse_control(to_json_text(o)).options.shape.axis, 1);
+  // Refusals name the key and the valid values.
+  expect_contains(issue_at(R"({"ca": 0.1, "capsule": {"shape": "disc"}})", "capsule.shape"),
+                  "\"biconcave\"");
+  expect_contains(issue_at(R"({"ca": 0.1, "capsule": {"shape": {"spheroid": {"aspect": 20}}}})",
+                           "capsule.shape.spheroid.aspect"),
+                  "[0.1, 10]");
+  expect_contains(issue_at(R"({"ca": 0.1, "capsule": {"shape": {"spheroid": {"axis": "x"}}}})",
+                           "capsule.shape.spheroid.aspect"),
+                  "required");
+  expect_contains(issue_at(R"({"ca": 0.1, "capsule": {"shape": {"biconcave": {"aspect": 2}}}})",
+                           "capsule.shape.biconcave.aspect"),
+                  "axis");
+  expect_contains(issue_at(R"({"ca": 0.1, "capsule": {"shape": {"spheroid": {"aspect": 2, "axis": "w"}}}})",
+                           "capsule.shape.spheroid.axis"),
+                  "\"z\"");
+  expect_contains(issue_at(R"({"ca": 0.1, "capsule": {"bending": {"modulus": -1}}})",
+                           "capsule.bending.modulus"),
+                  "[0, 1]");
+  expect_contains(issue_at(R"({"ca": 0.1, "capsule": {"bending": {"model": "wlc"}}})",
+                           "capsule.bending.model"),
+                  "helfrich");
+}
