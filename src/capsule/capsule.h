@@ -6,7 +6,7 @@
 // Time stepping: classical RK4 on the node positions (material points, dx/dt = u) with a fixed
 // dt (step), or any integrator that evaluates velocity() and ends each step with finish_step
 // and accept_step; Ca may depend on time (evaluated at the stage times).
-// Smoothing (paper sec. 3.2, capsule/smoothing.h): f is smoothed every time it is computed
+// Smoothing (paper sec. 3.2, geometry/smoothing.h): f is smoothed every time it is computed
 // (i.e. at the start of each RK stage, with the current tangents), the geometry at the end of
 // every step (with the reference tangents).
 // Optional volume correction (paper eq. 23), off by default:
@@ -22,17 +22,23 @@
 #include <vector>
 
 #include "capsule/flow.h"
-#include "capsule/smoothing.h"
 #include "capsule/symmetry.h"
 #include "capsule/viscosity_ratio.h"
 #include "geometry/mesh.h"
 #include "geometry/reference_shape.h"
+#include "geometry/smoothing.h"
 #include "membrane/bending.h"
 #include "membrane/law.h"
 #include "membrane/membrane.h"
 #include "stokes/boundary_integral.h"
 
 namespace capflow::capsule {
+
+using geometry::SmoothingBasis;
+using geometry::average_coincident;
+using geometry::hermite_derivatives;
+using geometry::smooth_first_order;
+using geometry::tangent_basis;
 
 using CaFunction = std::function<double(double t)>;
 

@@ -1,4 +1,4 @@
-#include "capsule/smoothing.h"
+#include "geometry/smoothing.h"
 
 #include <algorithm>
 #include <map>
@@ -8,7 +8,7 @@
 
 #include "geometry/surface.h"
 
-namespace capflow::capsule {
+namespace capflow::geometry {
 
 using Eigen::Matrix3d;
 using Eigen::MatrixXd;

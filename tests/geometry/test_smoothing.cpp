@@ -4,11 +4,10 @@
 
 #include <random>
 
-#include "capsule/smoothing.h"
+#include "geometry/smoothing.h"
 #include "geometry/shapes.h"
 #include "geometry/surface.h"
 
-using namespace capflow::capsule;
 using namespace capflow::geometry;
 
 namespace {

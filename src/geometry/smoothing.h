@@ -1,4 +1,4 @@
-// capflow/capsule/smoothing: the paper's first-order membrane smoothing (sec. 3.2, eqs. 17-21).
+// capflow/geometry/smoothing: the paper's first-order membrane smoothing (sec. 3.2, eqs. 17-21).
 //
 // A field F (the node positions x, or the traction jump f) is made continuous with its first
 // derivatives across element edges:
@@ -20,7 +20,7 @@
 //           prescribed slopes are not always compatible with a degree NB-1 interpolant whose
 //           edges are fixed, so this is a least-squares solve; the residual jump shrinks with
 //           every application (measured: 48x after one application, 5000x after 20, on a random
-//           O(1e-3) kink; tests/capsule/test_smoothing.cpp). The operator depends only on NB.
+//           O(1e-3) kink; tests/geometry/test_smoothing.cpp). The operator depends only on NB.
 //      Coincident nodes are averaged again at the end so shared nodes are bit-identical.
 // Why reading (b): the surface stays a plain Lagrange interpolant, so every other module (membrane
 // mechanics, quadrature, diagnostics, renderer) needs no Hermite representation. On data that is
@@ -32,10 +32,7 @@
 
 #include "geometry/mesh.h"
 
-namespace capflow::capsule {
-
-using geometry::Matrix3Xd;
-using geometry::Mesh;
+namespace capflow::geometry {
 
 struct SmoothingBasis {
   Matrix3Xd lower1, lower2;  // E_a at every local node
