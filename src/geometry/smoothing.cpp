@@ -16,18 +16,22 @@ using Eigen::Vector3d;
 
 SmoothingBasis tangent_basis(const Mesh& mesh, const Matrix3Xd& x) {
   const MatrixXd xd = x;
+  return basis_from_tangents(geometry::d_xi(mesh, xd), geometry::d_eta(mesh, xd));
+}
+
+SmoothingBasis basis_from_tangents(const Matrix3Xd& t1, const Matrix3Xd& t2) {
   SmoothingBasis b;
-  b.lower1 = geometry::d_xi(mesh, xd);
-  b.lower2 = geometry::d_eta(mesh, xd);
-  const int n = mesh.num_local();
+  b.lower1 = t1;
+  b.lower2 = t2;
+  const Eigen::Index n = t1.cols();
   b.upper1.resize(3, n);
   b.upper2.resize(3, n);
-  for (int m = 0; m < n; ++m) {
-    const Vector3d t1 = b.lower1.col(m), t2 = b.lower2.col(m);
-    const double g11 = t1.dot(t1), g12 = t1.dot(t2), g22 = t2.dot(t2);
+  for (Eigen::Index m = 0; m < n; ++m) {
+    const Vector3d a1 = t1.col(m), a2 = t2.col(m);
+    const double g11 = a1.dot(a1), g12 = a1.dot(a2), g22 = a2.dot(a2);
     const double det = g11 * g22 - g12 * g12;
-    b.upper1.col(m) = (g22 * t1 - g12 * t2) / det;
-    b.upper2.col(m) = (g11 * t2 - g12 * t1) / det;
+    b.upper1.col(m) = (g22 * a1 - g12 * a2) / det;
+    b.upper2.col(m) = (g11 * a2 - g12 * a1) / det;
   }
   return b;
 }

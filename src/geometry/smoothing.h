@@ -42,6 +42,8 @@ struct SmoothingBasis {
 // E_a = T_a and E^a = T^a of the surface x (used with the reference sphere for geometry, and
 // with the current surface for the traction).
 SmoothingBasis tangent_basis(const Mesh& mesh, const Matrix3Xd& x);
+// E_a = t_a given at every local node (e.g. Hermite-smoothed tangents) and their reciprocals.
+SmoothingBasis basis_from_tangents(const Matrix3Xd& t1, const Matrix3Xd& t2);
 
 // Averages F over every coincidence class (eq. 17).
 void average_coincident(const Mesh& mesh, Matrix3Xd* f);

@@ -15,17 +15,25 @@
 // eps Y_l (24 for l = 2) with c0 = 0, and kappa_b (l-1)^2 (l+2)^2 eps Y_l (16 for l = 2) with
 // c0 = 2 (the reference model on the sphere).
 //
-// Spectral evaluation, fourth derivatives of x in all: H and K at the nodes from each element's
-// interpolant (geometry/surface.h), averaged over coincident nodes (a continuous nodal field, as
-// the paper's smoothing makes the traction); the surface gradient g^ab d_b and the
-// Laplace-Beltrami operator (1/sqrt g) d_a (sqrt g g^ab d_b) by the elements' differentiation
-// matrices; the load averaged over coincident nodes again. Converges exponentially in NB on
-// smooth shapes (tests/membrane/test_bending.cpp).
+// Spectral evaluation, fourth derivatives of x in all, with the paper's care at element edges:
+//   1. the tangents t_a are the first-order smoothed (Hermite, reading a) derivatives of x through
+//      the reference basis, as the elastic traction uses them (geometry/smoothing.h): the same
+//      tensor in every element sharing a node, so a slope mismatch of the Lagrange interpolants
+//      at the edges does not reach the curvature;
+//   2. b_ab = n . d_b t_a from each element's interpolant of those tangents; H, K averaged over
+//      coincident nodes (they differ there by the discretisation error only);
+//   3. Lap_s(2H - c0) as the divergence of the surface gradient, the gradient averaged over
+//      coincident nodes before its divergence is taken; the load averaged again.
+// Taking H from the raw Lagrange interpolants instead (step 1 without smoothing) leaves an edge
+// kink visible to the fourth-derivative load: a red cell in shear grew waves along the element
+// edges at NB = 10 and a tension spike at a three-element corner at NB = 12 that way. Converges
+// exponentially in NB on smooth shapes (tests/membrane/test_bending.cpp).
 #pragma once
 
 #include <Eigen/Dense>
 
 #include "geometry/mesh.h"
+#include "geometry/smoothing.h"
 
 namespace capflow::membrane {
 
@@ -37,6 +45,19 @@ struct BendingOptions {
   double c0 = 0;       // helfrich: the spontaneous curvature (1/a)
   bool enabled() const { return modulus > 0; }
 };
+
+// The surface's differential geometry at the nodes, every derivative taken with the paper's
+// averaged edge slopes (geometry/smoothing.h, reading a): the tangents of x through the reference
+// basis, then the normal's gradient (the curvature tensor) through the current one, so that H and
+// K are the same in every element sharing a node without moving any nodal value.
+struct BendingGeometry {
+  geometry::SmoothingBasis basis;  // the smoothed tangents t_a and their reciprocals t^a
+  Eigen::Matrix3Xd n;              // unit outward normal
+  Eigen::VectorXd jac, H, K;       // sqrt(g), mean (+1/a on the sphere) and Gaussian curvature
+};
+BendingGeometry bending_geometry(const geometry::Mesh& mesh,
+                                 const geometry::SmoothingBasis& ref_basis,
+                                 const Eigen::Matrix3Xd& x);
 
 class Bending {
  public:
@@ -54,6 +75,7 @@ class Bending {
  private:
   const geometry::Mesh& mesh_;
   BendingOptions opt_;
+  geometry::SmoothingBasis ref_basis_;  // the reference's tangents (as the capsule's smoothing)
   Eigen::VectorXd c0_;
 };
 

@@ -189,7 +189,9 @@ TEST(Bending, TheLoadIsTheDerivativeOfTheEnergy) {
                   model == BendingModel::Helfrich ? "helfrich" : "reference", mismatch, nb);
       EXPECT_LT(mismatch, previous) << "NB " << nb;
       previous = mismatch;
-      if (nb == 16) EXPECT_LT(mismatch, 1e-3) << static_cast<int>(model);
+      if (nb == 16) {
+        EXPECT_LT(mismatch, 1e-3) << static_cast<int>(model);
+      }
     }
   }
 }
