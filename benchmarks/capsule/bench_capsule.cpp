@@ -15,6 +15,8 @@
 
 #include "../common/fma_chains.h"
 #include "capsule/capsule.h"
+#include "geometry/reference_shape.h"
+#include "membrane/bending.h"
 
 using namespace capflow;
 
@@ -140,6 +142,51 @@ void BM_Traction(benchmark::State& st) {
   for (auto _ : st) benchmark::DoNotOptimize(s.cap.traction(s.cap.positions()));
 }
 
+// The bending load's share of a velocity evaluation (Milestone 15's budget: <= 15 % at NE = 6,
+// NB = 10): a red blood cell (biconcave, Skalak C = 10, reference-model bending Eb = 5e-3) in
+// simple shear at Ca = 0.1, deformed by 100 RK4 steps of dt = 5e-4. Each iteration times one
+// Bending::load and one full velocity evaluation (which includes it) back to back, in
+// alternating order; counters: their median times (ms) and the median per-pair ratio.
+void BM_RedCellBendingShare(benchmark::State& st) {
+  const geometry::Mesh mesh(static_cast<int>(st.range(0)), static_cast<int>(st.range(1)));
+  omp_set_num_threads(static_cast<int>(st.range(2)));
+  capsule::DynamicsOptions o;
+  o.shape.kind = geometry::ReferenceShape::Kind::Biconcave;
+  o.shape.axis = 0;
+  o.bending.modulus = 5e-3;
+  o.bending.model = membrane::BendingModel::Reference;
+  membrane::LawOptions law;
+  law.c = 10;
+  capsule::Capsule cap(mesh, law, capsule::Flow::simple_shear(), o);
+  for (int k = 0; k < 100; ++k) cap.step(5e-4, [](double) { return 0.1; });
+  const membrane::Bending bending(mesh, geometry::reference_positions(mesh, o.shape), o.bending);
+  const Eigen::Matrix3Xd x = cap.positions();
+  std::vector<double> load_ms, velocity_ms, ratio;
+  const auto ms = [](auto&& f) {
+    const auto t0 = std::chrono::steady_clock::now();
+    f();
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  };
+  bool load_first = true;
+  for (auto _ : st) {
+    double l = 0, v = 0;
+    const auto time_load = [&] { l = ms([&] { benchmark::DoNotOptimize(bending.load(x)); }); };
+    const auto time_velocity = [&] { v = ms([&] { benchmark::DoNotOptimize(cap.velocity(x, 0.1)); }); };
+    if (load_first) { time_load(); time_velocity(); } else { time_velocity(); time_load(); }
+    load_first = !load_first;
+    load_ms.push_back(l);
+    velocity_ms.push_back(v);
+    ratio.push_back(l / v);
+  }
+  const auto median = [](std::vector<double> v) {
+    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+    return v[v.size() / 2];
+  };
+  st.counters["load_ms"] = median(load_ms);
+  st.counters["velocity_ms"] = median(velocity_ms);
+  st.counters["share"] = median(ratio);
+}
+
 void args(benchmark::internal::Benchmark* b) {
   b->ArgNames({"NE", "NB", "threads"})->UseRealTime()->Unit(benchmark::kMillisecond);
   for (const auto& [ne, nb] :
@@ -164,4 +211,10 @@ BENCHMARK(BM_VelocityThreadPairs)
     ->Args({14, 12, static_cast<int>(geometry::Division::Cube)});
 BENCHMARK(BM_VelocityFarNb3)->Apply(args);
 BENCHMARK(BM_Traction)->Apply(args);
+BENCHMARK(BM_RedCellBendingShare)
+    ->ArgNames({"NE", "NB", "threads"})
+    ->Unit(benchmark::kMillisecond)
+    ->Args({6, 10, 1})
+    ->Args({6, 10, 2})
+    ->Args({6, 12, 2});
 BENCHMARK_MAIN();
