@@ -248,13 +248,18 @@ struct Simulation::Impl {
     out->write_due(s);
     if (due.full_measure()) {
       out->offer_preview(s);
-      const capsule::HealthReport w =
-          health->check_wrinkling(now, ob.m.tau_min, ob.m.tau_min_at, schedule->max_rate());
-      if (w.level == capsule::HealthLevel::Warning) life->warn(w.cause, w.message, now);
+      if (!opt.bending.enabled()) warn_if_wrinkling(ob, now);
     }
     if (due.checkpoint) write_checkpoint("output.checkpoint_every");
     cadence->fired(due, opt.output, now);
     return stop_here;
+  }
+
+  // Compressive tension in a membrane without bending stiffness (with bending it is resolved).
+  void warn_if_wrinkling(const Observation& ob, double now) {
+    const capsule::HealthReport w =
+        health->check_wrinkling(now, ob.m.tau_min, ob.m.tau_min_at, schedule->max_rate());
+    if (w.level == capsule::HealthLevel::Warning) life->warn(w.cause, w.message, now);
   }
 
   void report_progress(Progress& progress, const Observation& ob, double D) {

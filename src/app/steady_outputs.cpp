@@ -118,10 +118,12 @@ void SteadyOutputs::warn(const std::string& cause, double ca, const char* key, d
               t);
 }
 
-// A root with compressive tension somewhere: the membrane (no bending stiffness) wrinkles there
+// A root with compressive tension somewhere: a membrane without bending stiffness wrinkles there
 // at the scale of the mesh, so the shape is not resolved (below Ca ~ 0.15 in planar extension).
+// With bending the compressed membrane has a finite wrinkle length and its shape is resolved
+// unless the grid says otherwise (warn_if_oscillating).
 void SteadyOutputs::warn_if_compressed(double ca, double tau_min, double t) {
-  if (tau_min >= 0) return;
+  if (tau_min >= 0 || opt_.bending.enabled()) return;
   std::ostringstream m;
   m << "warning: compressive tension at the steady state at Ca = " << ca
     << " (tau_min = " << tau_min
