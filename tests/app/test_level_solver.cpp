@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "app/branch_follower.h"
+#include "app/cpu_budget.h"
 #include "app/level_solver.h"
 #include "capsule/health.h"
 #include "control/control_file.h"
@@ -71,10 +72,11 @@ TEST(LevelSolver, ARootIsAShapeAtRest) {
 // lands on a root with node-to-node oscillation above the time steps' limit. With Eb = 0.01 the
 // same level has a smooth root, still with compressive tension.
 TEST(LevelSolver, BendingResolvesALowCaRootThatWrinklesWithout) {
+  app::set_solver_threads(1);  // as capflow steady does with numerics.threads
   const auto options = [](double eb) {
     return control::parse_control(R"({"capsule": {"law": "skalak", "C": 1, "bending": {"modulus": )" +
                                   std::to_string(eb) + R"(}}, "mesh": {"elements": 6, "nb": 8,
-        "division": "diagonal"}, "ca": 0.05})")
+        "division": "diagonal"}, "ca": 0.05, "numerics": {"threads": 1}})")
         .options;
   };
   const double limit = capsule::HealthOptions{}.oscillation_fail;
@@ -99,6 +101,43 @@ TEST(LevelSolver, BendingResolvesALowCaRootThatWrinklesWithout) {
     const double a = capsule::HealthMonitor(*g.mesh, g.x).oscillation_indicator(g.x);
     std::printf("Eb = 0: converged %d, oscillation %.2e\n", r.converged, a);
     EXPECT_TRUE(!r.converged || a > limit) << "a membrane without bending resolves Ca = 0.05";
+  }
+}
+
+// Small-deformation theory with bending (docs/validation.md, sec. 5, with the bending load added
+// to the normal balance): a normal displacement W Y (Y = n.E.n, l = 2) carries the bending load
+// F2 W Y n, F2 = 24 Eb (Helfrich, c0 = 0) or 16 Eb (bending about the sphere), and no tangential
+// load, so with A = 2W - 6P
+//   normal      2 Ks A + F2 W = 5 Ca,   tangential  Ks A - 4P = -5 Ca / 2,
+//   A = Ca (5 - 15 F2 / 8) / (2 Ks + F2 (2 + 3 Ks) / 4),   W = A (1/2 + 3 Ks / 4) + 15 Ca / 8,
+// which is (5/4) Ca (3 + 1/Ks) at F2 = 0. Planar extension: D = W. Skalak C = 1 (Ks = 3),
+// Ca = 0.01, NE 6 NB 8; the O(Ca^2) terms are -0.3 % without bending (sec. 5).
+TEST(LevelSolver, SmallDeformationWithBendingMatchesLinearTheory) {
+  app::set_solver_threads(1);  // as capflow steady does with numerics.threads
+  struct Case {
+    double eb;
+    const char* model;
+    double f2_per_eb;
+  };
+  for (const Case& c : {Case{0.01, "helfrich", 24}, Case{0.05, "helfrich", 24},
+                        Case{0.05, "reference", 16}}) {
+    const control::ControlOptions o =
+        control::parse_control(R"({"capsule": {"law": "skalak", "C": 1, "bending": {"modulus": )" +
+                               std::to_string(c.eb) + R"(, "model": ")" + c.model +
+                               R"("}}, "mesh": {"elements": 6, "nb": 8, "division": "diagonal"},
+            "ca": 0.01, "numerics": {"threads": 1}})")
+            .options;
+    Grid g = app::make_grid(o);
+    LevelSolver solver(o, g, LevelSolver::Hooks{});
+    const LevelSolver::Result r = solver.solve(0.01, true);
+    ASSERT_TRUE(r.converged) << r.failure;
+    const double ks = 3, f2 = c.f2_per_eb * c.eb, ca = 0.01;
+    const double a = ca * (5 - 15 * f2 / 8) / (2 * ks + f2 * (2 + 3 * ks) / 4);
+    const double w = a * (0.5 + 0.75 * ks) + 15 * ca / 8;
+    const double d = deformation(g);
+    std::printf("Eb = %g (%s): D / Ca = %.5f, theory %.5f, relative difference %+.2e\n", c.eb,
+                c.model, d / ca, w / ca, d / w - 1);
+    EXPECT_NEAR(d / w, 1, 0.01) << c.eb << " " << c.model;
   }
 }
 
