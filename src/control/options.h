@@ -1,6 +1,6 @@
 // capflow/control/options: the typed, validated content of a control file.
 //
-// Each option is documented once, in the schema table (control/schema.cpp): its type, valid
+// Each option is documented once, in the schema table (control/schema_fields.cpp): its type, valid
 // range, default, unit, edit policy and meaning, from which docs/control.md is generated. The
 // comments here only name each field's JSON key. These structs are plain data: only
 // src/control/control_file.cpp fills them from JSON (nothing else parses JSON).

@@ -1,8 +1,8 @@
 // capflow/control/schema: the control file's fields as data.
 //
-// One table (schema.cpp) lists every field of the control file with its JSON path, type, valid
-// range, default, unit, whether it may change while a run goes on, and a one-line doc. The same
-// table drives parsing and validation (control_file.cpp), the effective control file
+// One table (schema_fields.cpp) lists every field of the control file with its JSON path, type,
+// valid range, default, unit, whether it may change while a run goes on, and a one-line doc. The
+// same table drives parsing and validation (control_file.cpp), the effective control file
 // (to_json_text), the live-edit policy (edit.cpp), the fuzzing dictionary
 // (tests/fuzz/control.dict) and the reference docs/control.md; tests fail when either file is
 // stale (`capflow reference` regenerates them).
