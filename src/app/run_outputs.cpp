@@ -222,7 +222,9 @@ output::VtkSurface RunOutputs::surface(const StateRecord& s) const {
   const render::Snapshot sn = snapshot(s);
   const Eigen::Matrix3Xd& x = cap.positions();
   const int n = opt_.output.vtk_points > 0 ? opt_.output.vtk_points : cap.mesh().nb();
-  return surface_export(cap.mesh(), {&x, &u, &sn}, n);
+  Eigen::VectorXd bending;
+  if (cap.bending()) bending = cap.bending()->energy_density(x);
+  return surface_export(cap.mesh(), {&x, &u, &sn, cap.bending() ? &bending : nullptr}, n);
 }
 
 long RunOutputs::frames_on_disk() const {

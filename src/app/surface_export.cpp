@@ -64,7 +64,8 @@ output::VtkSurface surface_export(const geometry::Mesh& mesh, const NodalState& 
   if (n < 2)
     throw std::invalid_argument("surface_export: n must be >= 2, got " + std::to_string(n));
   const int ne = mesh.ne(), nl = mesh.num_local();
-  if (!s.x || !s.snapshot || s.x->cols() != nl || (s.velocity && s.velocity->cols() != nl))
+  if (!s.x || !s.snapshot || s.x->cols() != nl || (s.velocity && s.velocity->cols() != nl) ||
+      (s.bending_energy && s.bending_energy->size() != nl))
     throw std::invalid_argument(
         "surface_export: the positions, velocity or snapshot do not fit the mesh");
   const render::Snapshot& sn = *s.snapshot;
@@ -100,6 +101,8 @@ output::VtkSurface surface_export(const geometry::Mesh& mesh, const NodalState& 
   const geometry::SurfaceGeometry g = geometry::compute_geometry(mesh, *s.x);
   v.point_arrays["mean_curvature"] = {1, resample(rs, g.mean_curvature.transpose(), ne)};
   if (s.velocity) v.point_arrays["velocity"] = {3, resample(rs, *s.velocity, ne)};
+  if (s.bending_energy)
+    v.point_arrays["bending_energy_density"] = {1, resample(rs, s.bending_energy->transpose(), ne)};
   v.field_scalars = snapshot_field_scalars(sn);
   return v;
 }

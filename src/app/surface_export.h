@@ -6,7 +6,8 @@
 // file is the solver's surface itself, which render and figure can read back as an n-node grid),
 // with the unit normal x_s x x_t / |.| of the interpolant. The nodal fields are interpolated the
 // same way: tau1, tau2 (principal tensions, G_s), mean_curvature (1/a, 1 on the unit sphere),
-// and velocity (G a) when given. n = NB writes the nodes themselves.
+// and, when given, velocity (G a) and bending_energy_density ((kappa_b / 2)(2H - c0)^2, G_s).
+// n = NB writes the nodes themselves.
 #pragma once
 
 #include <Eigen/Dense>
@@ -22,6 +23,7 @@ struct NodalState {
   const Eigen::Matrix3Xd* x = nullptr;         // positions
   const Eigen::Matrix3Xd* velocity = nullptr;  // optional
   const render::Snapshot* snapshot = nullptr;  // tensions, time, Ca and the shape diagnostics
+  const Eigen::VectorXd* bending_energy = nullptr;  // optional (membrane::Bending::energy_density)
 };
 
 // The surface on n x n Gauss-Lobatto points per element (n >= 2; n = mesh.nb(): the nodes).

@@ -132,6 +132,8 @@ class Capsule {
   Eigen::Matrix3Xd traction(const Eigen::Matrix3Xd& x) const;
   // Membrane fields (stretches, tensions) at x, with the same tangents the dynamics uses.
   membrane::MembraneFields fields(const Eigen::Matrix3Xd& x) const;
+  // The bending load's owner (membrane/bending.h), null without bending.
+  const membrane::Bending* bending() const { return bending_.get(); }
   // The tangents the membrane mechanics sees at x (Hermite-smoothed or Lagrange).
   void tangents(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* t1, Eigen::Matrix3Xd* t2) const;
   // Node velocities at positions x for capillary number ca (> 0).

@@ -147,4 +147,11 @@ double Bending::energy(const Matrix3Xd& x) const {
   return 0.5 * opt_.modulus * w;
 }
 
+VectorXd Bending::energy_density(const Matrix3Xd& x) const {
+  if (x.cols() != mesh_.num_local())
+    throw std::invalid_argument("Bending::energy_density: x does not fit the mesh");
+  const VectorXd m = 2 * bending_geometry(mesh_, ref_basis_, x).H - c0_;
+  return 0.5 * opt_.modulus * m.cwiseAbs2();
+}
+
 }  // namespace capflow::membrane

@@ -69,6 +69,9 @@ class Bending {
   Eigen::Matrix3Xd load(const Eigen::Matrix3Xd& x) const;
   // W_b by the nodes' Gauss-Lobatto quadrature of each element.
   double energy(const Eigen::Matrix3Xd& x) const;
+  // The energy density (kappa_b / 2) (2H - c0)^2 at every local node (Gs; continuous across
+  // element edges): what the ParaView surfaces write as bending_energy_density.
+  Eigen::VectorXd energy_density(const Eigen::Matrix3Xd& x) const;
   // The nodal spontaneous curvature c0 (num_local).
   const Eigen::VectorXd& c0() const { return c0_; }
 

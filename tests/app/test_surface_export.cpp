@@ -14,6 +14,7 @@
 #include "app/surface_export.h"
 #include "geometry/mesh.h"
 #include "geometry/surface.h"
+#include "membrane/bending.h"
 #include "output/vtk.h"
 
 namespace fs = std::filesystem;
@@ -51,6 +52,24 @@ TEST(SurfaceExport, AtTheNodeCountItWritesTheNodes) {
   EXPECT_EQ(v.point_arrays.count("velocity"), 0u);
   EXPECT_EQ(v.time, 0.5);
   EXPECT_EQ(v.field_scalars.at("ca"), 0.2);
+}
+
+// With bending, the energy density (kappa_b / 2)(2H - c0)^2: 2 kappa_b on the unit sphere (c0 = 0).
+TEST(SurfaceExport, BendingEnergyDensityWhenGiven) {
+  const Mesh mesh(6, 12);
+  const Eigen::Matrix3Xd x = mesh.reference();
+  const capflow::render::Snapshot sn = snapshot_of(mesh, x);
+  capflow::membrane::BendingOptions o;
+  o.modulus = 0.01;
+  const capflow::membrane::Bending b(mesh, x, o);
+  const Eigen::VectorXd w = b.energy_density(x);
+  NodalState s{&x, nullptr, &sn, &w};
+  const capflow::output::VtkSurface v = surface_export(mesh, s, 16);
+  const std::vector<double>& values = v.point_arrays.at("bending_energy_density").values;
+  ASSERT_EQ(values.size(), v.x.size() / 3);
+  for (double value : values) EXPECT_NEAR(value, 0.02, 2e-4);
+  EXPECT_EQ(surface_export(mesh, {&x, nullptr, &sn}, 16).point_arrays.count("bending_energy_density"),
+            0u);
 }
 
 TEST(SurfaceExport, UpsampledSurfaceIsTheInterpolant) {
