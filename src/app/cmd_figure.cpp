@@ -312,7 +312,10 @@ int run(FigureArgs c) {
   ko.times = c.times;
   ko.references = !c.no_references;
   try {
-    if (want("timeseries")) figures::timeseries_figures(w, runs, ko);
+    if (want("timeseries")) {
+      figures::timeseries_figures(w, runs, ko);
+      figures::tank_treading_figures(w, runs);
+    }
     if (want("profiles")) figures::profile_figures(w, runs, ko);
     if (want("steady")) figures::steady_figures(w, runs, ko);
     if (want("views")) view_figures(w, c, runs);

@@ -5,7 +5,8 @@
 //   timeseries  ts_D (with the paper's steady D where it applies), ts_LSW, ts_edge_curvature
 //               (straining flows), ts_tension (paper figs. 5, 8, 9, 11, 13, 14), ts_D_ca (D(t)
 //               over Ca(t): what a steered run was driven with), ts_volume_drift,
-//               ts_inclination (simple shear)
+//               ts_inclination (simple shear); ts_tank_treading (simple shear with ParaView
+//               surfaces: the phase of a membrane point, figures/tank_treading.cpp)
 //   profiles    profiles_<run>_z / _y at the given times with the undisturbed unit circle (figs.
 //               6ab, 7ab, 12ab); profiles_compare_z / _y: every run at the last time (fig. 15)
 //   steady      steady_D_vs_ca (small-deformation lines, published values),
@@ -33,6 +34,7 @@ struct KindOptions {
 void timeseries_figures(Writer& w, const std::vector<RunInfo>& runs, const KindOptions& o);
 void steady_figures(Writer& w, const std::vector<RunInfo>& runs, const KindOptions& o);
 void profile_figures(Writer& w, const std::vector<RunInfo>& runs, const KindOptions& o);
+void tank_treading_figures(Writer& w, const std::vector<RunInfo>& runs);
 
 // The runs that have <file> with the columns `need`, with their tables; the others are named in
 // a note.

@@ -297,6 +297,55 @@ TEST(FigureCommand, ShearRunsGetTheInclinationAndNoTipCurvature) {
   fs::remove_all(d);
 }
 
+TEST(FigureCommand, TankTreadingPhaseFollowsAMembranePoint) {
+  // A rigid ellipsoid turning about y at -0.5 rad per unit time (as a rigid body in the shear
+  // u = (z, 0, 0)), surfaces at t = 0, 0.5, .., 8 (-229 degrees in all: the phase crosses the
+  // +-180 wrap): ts_tank_treading is the unwrapped angle of the point that starts highest (the
+  // +z pole, 90 degrees), -0.5 rad per unit time exactly; a run without surfaces gets a note.
+  const fs::path d = fresh_dir("tank_treading");
+  make_run(d / "turning", 0.3, false);
+  put(d / "turning" / "control.json", R"({"ca": 0.1, "flow": {"type": "simple-shear"}})");
+  fs::create_directories(d / "turning" / "vtk");
+  capflow::output::PvdCollection pvd((d / "turning" / app::kSurfaceCollection).string());
+  const capflow::geometry::Mesh mesh(6, 7);
+  const auto body = capflow::geometry::map_points(mesh.reference(),
+                                                  capflow::geometry::ellipsoid_map(1.3, 0.9, 0.8));
+  for (int k = 0; k <= 16; ++k) {
+    const double t = 0.5 * k, a = -0.5 * t;
+    Eigen::Matrix3d turn;
+    turn << std::cos(a), 0, -std::sin(a), 0, 1, 0, std::sin(a), 0, std::cos(a);
+    const Eigen::Matrix3Xd x = turn * body;
+    capflow::render::Snapshot s;
+    s.ne = 6;
+    s.nb = 7;
+    s.time = t;
+    s.ca = 0.1;
+    s.x.assign(x.data(), x.data() + x.size());
+    s.tau1.assign(x.cols(), 0.0);
+    s.tau2.assign(x.cols(), 0.0);
+    const std::string f = app::surface_file_name(k);
+    capflow::output::write_vtp((d / "turning" / f).string(), app::vtk_from_snapshot(s));
+    pvd.add(t, f);
+  }
+  make_run(d / "bare", 0.3, false);
+  put(d / "bare" / "control.json", R"({"ca": 0.1, "flow": {"type": "simple-shear"}})");
+  const fs::path out = d / "out";
+  ASSERT_EQ(run_capflow((d / "turning").string() + " " + (d / "bare").string() + " -o " +
+                            out.string() + " --kinds timeseries --no-gnuplot",
+                        d / "log.txt"),
+            0)
+      << slurp(d / "log.txt");
+  const auto phase = read_dat(out / "ts_tank_treading.dat");
+  ASSERT_EQ(phase.size(), 1u);
+  ASSERT_EQ(phase[0].size(), 17u);
+  for (const auto& row : phase[0])
+    EXPECT_NEAR(row[1], 90 - 0.5 * row[0] * 180 / M_PI, 1e-9) << "t = " << row[0];
+  const std::string manifest = slurp(out / "figures.md");
+  EXPECT_NE(manifest.find("no surface.pvd"), std::string::npos) << manifest;
+  EXPECT_NE(manifest.find("-28.6479 deg per unit G t"), std::string::npos) << manifest;
+  fs::remove_all(d);
+}
+
 TEST(FigureCommand, SteadyDeformationWithTheSmallDeformationLine) {
   // steady_D_vs_ca: each run's (Ca, D) from steady.csv, and the small-deformation line of its law
   // and flow: Skalak C = 3 (Ks = 7) in planar extension D = (5/4)(3 + 1/7) Ca = 55/14 Ca,
