@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -79,6 +80,8 @@ ArclengthContinuation::Status ArclengthContinuation::advance(const BranchCorrect
     t.y /= len;
     t.ca /= len;
   }
+  // A Ca of `at` that a corrected state passed although its predictor fell short of it.
+  std::optional<double> passed;
   for (;;) {
     double ds = std::min(ds_, max_step(t));
     BranchPoint pred = along(p1_, ds, t);
@@ -88,14 +91,21 @@ ArclengthContinuation::Status ArclengthContinuation::advance(const BranchCorrect
     double bound = t.ca * dir_ > 0 ? opt_.to : opt_.from;
     bool end = true;
     const double sc = sign(t.ca);
+    const auto ahead = [&](double a) {
+      return (a - p1_.ca) * sc > 1e-12 * std::max(1.0, std::abs(a)) && (bound - a) * sc > 0;
+    };
     for (double a : opt_.at)
-      if ((a - p1_.ca) * sc > 1e-12 * std::max(1.0, std::abs(a)) && (bound - a) * sc > 0 &&
-          (pred.ca - a) * sc >= 0) {
+      if (ahead(a) && (pred.ca - a) * sc >= 0) {
         bound = a;
         end = false;
       }
+    const bool forced = passed && ahead(*passed);
+    if (forced) {
+      bound = *passed;
+      end = false;
+    }
     bool landing = false;
-    if (t.ca != 0 && (pred.ca - bound) * sc >= 0) {
+    if (t.ca != 0 && (forced || (pred.ca - bound) * sc >= 0)) {
       ds = (bound - p1_.ca) / t.ca;
       pred = along(p1_, ds, t);
       pred.ca = bound;
@@ -105,6 +115,19 @@ ArclengthContinuation::Status ArclengthContinuation::advance(const BranchCorrect
     }
     int newton = 0;
     std::optional<BranchPoint> p = correct(pred, normal, &newton);
+    if (p && !landing) {
+      // the corrector carried the state past a Ca of `at`: land on that instead
+      std::optional<double> first_passed;
+      for (double a : opt_.at)
+        if ((a - p1_.ca) * sc > 1e-12 * std::max(1.0, std::abs(a)) &&
+            (p->ca - a) * sc > 1e-12 * std::max(1.0, std::abs(a)) &&
+            (!first_passed || (*first_passed - a) * sc > 0))
+          first_passed = a;
+      if (first_passed) {
+        passed = first_passed;
+        continue;
+      }
+    }
     if (p) {
       if (landing) p->ca = bound;
       const BranchPoint sec = branch_difference(*p, p1_);

@@ -17,6 +17,7 @@ namespace {
 // product). g = y^2 + c - 1 (fold at c = 1, y = 0) or y - c^2.
 struct Model {
   bool fold = true;
+  double drift = 0;  // on arclength hyperplanes (not Ca = const) the corrector lands this far on in Ca
   int calls = 0;
   double g(double y, double c) const { return fold ? y * y + c - 1 : y - c * c; }
   double gy(double y, double) const { return fold ? 2 * y : 1.0; }
@@ -26,7 +27,8 @@ struct Model {
     ++calls;
     double y = p.y(0), c = p.ca;
     for (int it = 1; it <= 20; ++it) {
-      const double r1 = g(y, c), r2 = n.y(0) * (y - p.y(0)) + n.ca * (c - p.ca);
+      const double shift = n.y(0) != 0 ? drift : 0;
+      const double r1 = g(y, c), r2 = n.y(0) * (y - p.y(0)) + n.ca * (c - p.ca - shift);
       if (std::abs(r1) < 1e-13 && std::abs(r2) < 1e-13) {
         *newton = it - 1;
         BranchPoint out;
@@ -126,6 +128,28 @@ TEST(Continuation, LandsOnTheRequestedCaValuesOnTheWay) {
   for (double a : {0.45, 0.6, 0.61, 1.0})
     EXPECT_EQ(std::count(seen.begin(), seen.end(), a), 1) << a;
   EXPECT_EQ(seen.back(), 1.0);
+}
+
+// A corrector may end its state beyond its prediction (capflow steady's corrector measures the
+// branch in its own scaled norm): here it lands on the arclength hyperplane shifted forward by
+// 0.013 in Ca. A state that passes a requested Ca is not taken; the step lands on that Ca.
+TEST(Continuation, LandsOnRequestedCaValuesTheCorrectorWouldPass) {
+  for (bool up : {true, false}) {
+    Model m;
+    m.fold = false;
+    m.drift = up ? 0.013 : -0.013;
+    ContinuationOptions o;
+    o.from = up ? 0.2 : 1.0;
+    o.to = up ? 1.0 : 0.2;
+    o.step = 0.05;
+    for (int k = 3; k <= 9; ++k) o.at.push_back(0.1 * k);
+    ArclengthContinuation k(o, point(o.from * o.from, o.from));
+    std::vector<double> seen;
+    while (k.advance(m.corrector()) == ArclengthContinuation::Status::State)
+      seen.push_back(k.last().ca);
+    for (double a : o.at) EXPECT_EQ(std::count(seen.begin(), seen.end(), a), 1) << a << " " << up;
+    EXPECT_EQ(seen.back(), o.to);
+  }
 }
 
 TEST(Continuation, DecreasingRangesAndLiveEditsOfTheEnd) {
