@@ -23,6 +23,11 @@ using namespace capflow;
 namespace {
 constexpr double kCa = 0.45;
 
+double median(std::vector<double> v) {
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
 struct Setup {
   geometry::Mesh mesh;
   capsule::Capsule cap;
@@ -121,10 +126,6 @@ void BM_VelocityThreadPairs(benchmark::State& st) {
     const double fa = fma_timed(one_first ? 1 : 2), fb = fma_timed(one_first ? 2 : 1);
     machine.push_back(one_first ? fa / fb : fb / fa);
   }
-  const auto median = [](std::vector<double> v) {
-    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-    return v[v.size() / 2];
-  };
   st.counters["one_ms"] = median(one);
   st.counters["two_ms"] = median(two);
   st.counters["scaling"] = median(ratio);
@@ -178,10 +179,6 @@ void BM_RedCellBendingShare(benchmark::State& st) {
     velocity_ms.push_back(v);
     ratio.push_back(l / v);
   }
-  const auto median = [](std::vector<double> v) {
-    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-    return v[v.size() / 2];
-  };
   st.counters["load_ms"] = median(load_ms);
   st.counters["velocity_ms"] = median(velocity_ms);
   st.counters["share"] = median(ratio);
