@@ -26,73 +26,32 @@
 // only where the run restarted.
 #pragma once
 
-#include <Eigen/Dense>
-#include <functional>
 #include <memory>
-#include <stdexcept>
-#include <string>
+
+#include "capsule/integrator.h"
 
 namespace capflow::capsule {
 
-struct AdaptiveOptions {
-  double tolerance = 1e-6;  // local error tolerance (relative and absolute), [1e-10, 1e-2]
-  double h_min = 1e-6;      // a step that must fall below this fails (StepFailure)
-  double h_max = 0.1;
-};
-
-// The step size fell below h_min, or a state kept failing its check: the message says why.
-class StepFailure : public std::runtime_error {
+class AdaptiveStepper : public Integrator {
  public:
-  using std::runtime_error::runtime_error;
-};
-
-class AdaptiveStepper {
- public:
-  // dy/dt = rhs(t, y); rhs may throw (the step is then retried smaller).
-  using Rhs = std::function<void(double t, const Eigen::VectorXd& y, Eigen::VectorXd* dydt)>;
-  // Post-step operation on an accepted state (may change it).
-  using Finish = std::function<void(Eigen::VectorXd* y)>;
-  // "" for a healthy state at time t, otherwise why it is not.
-  using Check = std::function<std::string(const Eigen::VectorXd& y, double t)>;
-
   AdaptiveStepper(Rhs rhs, const AdaptiveOptions& options);
   ~AdaptiveStepper();
   AdaptiveStepper(const AdaptiveStepper&) = delete;
   AdaptiveStepper& operator=(const AdaptiveStepper&) = delete;
 
-  // Starts (again) from (t, y); the first step is h (0: ARKODE's estimate from the tolerance).
-  void restart(double t, const Eigen::VectorXd& y, double h);
-
-  // The controller's memory between steps: the last accepted step's biased error estimate (1
-  // after a restart), the steps taken (ARKODE's nst: the first two use a simpler formula, and
-  // only the first grows by more than 20x), and the last step that was not cut at a stop time.
-  struct History {
-    double e_prev = 1;
-    long steps = 0;
-    double h_free = 0;
-  };
-  History history() const;
-  // Starts from (t, y) as a run that saved (h, history) there goes on: its next step h and its
-  // controller's memory. std::invalid_argument for a malformed history.
-  void resume(double t, const Eigen::VectorXd& y, double h, const History& history);
-
-  struct Step {
-    double t = 0;              // the time reached (t_stop exactly when the step was cut there)
-    double h = 0;              // the step taken
-    int error_rejections = 0;  // attempts refused by the error test
-    int check_rejections = 0;  // attempts refused by `check` or a failed right-hand side
-  };
-  // One accepted step from the current state, ending at t_stop or before; *y receives the state
-  // (after `finish`). Throws StepFailure when no step above h_min passes.
-  Step step(double t_stop, const Finish& finish, const Check& check, Eigen::VectorXd* y);
-
-  double time() const { return t_; }
-  // The step the controller proposes next.
-  double next_step() const;
-  // A new tolerance applies from the next step (the controller history is kept).
-  void set_tolerance(double tolerance);
-  double tolerance() const { return opt_.tolerance; }
-  long rhs_evaluations() const { return rhs_evals_; }
+  // restart(h = 0): ARKODE's first-step estimate from the tolerance. history(): the last
+  // accepted step's biased error estimate (1 after a restart), the steps taken (ARKODE's nst:
+  // the first two use a simpler formula, and only the first grows by more than 20x), the last
+  // step not cut at a stop time; rho is not used.
+  void restart(double t, const Eigen::VectorXd& y, double h) override;
+  void resume(double t, const Eigen::VectorXd& y, double h, const History& history) override;
+  History history() const override;
+  Step step(double t_stop, const Finish& finish, const Check& check, Eigen::VectorXd* y) override;
+  double time() const override { return t_; }
+  double next_step() const override;
+  void set_tolerance(double tolerance) override;
+  double tolerance() const override { return opt_.tolerance; }
+  long rhs_evaluations() const override { return rhs_evals_; }
 
  private:
   struct Arkode;
