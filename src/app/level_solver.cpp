@@ -71,6 +71,9 @@ LevelSolver::LevelSolver(const control::ControlOptions& options, Grid& fine, Hoo
 double LevelSolver::approach(Grid& g, double ca, double speed) {
   control::TimeOptions time = opt_.time;
   time.adaptive = true;
+  // The explicit pair's steps settle at the stability limit, which sizes the midpoint map
+  // (kMapStepFactor); Runge-Kutta-Chebyshev steps are longer and say nothing about it.
+  time.method = control::TimeMethod::CashKarp;
   g.cap->set_state(g.x, t_, steps_);
   TimeStepper st(*g.cap, time, g.h_last);
   capsule::HealthMonitor health(*g.mesh, g.x);

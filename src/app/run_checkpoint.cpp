@@ -105,13 +105,19 @@ RunCheckpoint decode(const output::Checkpoint& c) {
   if (!(std::isfinite(s.h_next) && s.h_next >= 0 && s.h_next <= 1))
     throw output::CheckpointError(p + ": invalid h_next (the adaptive step) in the checkpoint");
   if (c.has("step_history")) {
-    const auto& h = c.doubles("step_history", 3);
-    capsule::AdaptiveStepper::History hist;
-    hist.e_prev = h[0];
-    hist.steps = static_cast<long>(h[1]);
-    hist.h_free = h[2];
-    if (!(std::isfinite(h[0]) && h[0] >= 0 && h[1] >= 0 && h[1] <= 1e15 && h[1] == std::floor(h[1]) &&
-          std::isfinite(h[2]) && h[2] >= 0 && h[2] <= 1))
+    // e_prev, steps, h_free and (time.method "chebyshev") the spectral radius rho.
+    const auto& h = c.doubles("step_history");
+    const double rho = h.size() == 4 ? h[3] : 0.0;
+    capsule::Integrator::History hist;
+    if (h.size() == 3 || h.size() == 4) {
+      hist.e_prev = h[0];
+      hist.steps = static_cast<long>(h[1]);
+      hist.h_free = h[2];
+      hist.rho = rho;
+    }
+    if (!(h.size() == 3 || h.size() == 4) ||
+        !(std::isfinite(h[0]) && h[0] >= 0 && h[1] >= 0 && h[1] <= 1e15 && h[1] == std::floor(h[1]) &&
+          std::isfinite(h[2]) && h[2] >= 0 && h[2] <= 1 && std::isfinite(rho) && rho >= 0))
       throw output::CheckpointError(p + ": invalid step_history (the adaptive controller's state)");
     s.step_history = hist;
   }
@@ -163,10 +169,12 @@ void write_run_checkpoint(const RunCheckpoint& s, const std::string& path) {
   c.put_scalar("pending_steady_ca", s.pending_steady_ca);
   c.put_scalar("pending_ca", s.pending_ca);
   c.put_scalar("h_next", s.h_next);
-  if (s.step_history)
-    c.put("step_history", std::vector<double>{s.step_history->e_prev,
-                                              static_cast<double>(s.step_history->steps),
-                                              s.step_history->h_free});
+  if (s.step_history) {
+    std::vector<double> h{s.step_history->e_prev, static_cast<double>(s.step_history->steps),
+                          s.step_history->h_free};
+    if (s.step_history->rho > 0) h.push_back(s.step_history->rho);
+    c.put("step_history", h);
+  }
   if (s.krylov_warm.size() > 0)
     c.put("krylov_warm",
           std::vector<double>(s.krylov_warm.data(), s.krylov_warm.data() + s.krylov_warm.size()));

@@ -11,8 +11,8 @@
 // outputs of this step an output failure left unwritten; absent = 0) with pending_ca (the Ca
 // they carry), pending_steady_ca (the Ca of an unwritten steady.csv row; NaN = none),
 // h_next (the adaptive integrator's next step, time.dt "auto"; absent or 0 = estimate anew),
-// step_history (its controller's memory, capsule::AdaptiveStepper::History: e_prev, steps,
-// h_free; absent in checkpoints of earlier versions: the integrator restarts there),
+// step_history (its controller's memory, capsule::Integrator::History: e_prev, steps,
+// h_free, and rho for time.method "chebyshev"; absent in checkpoints of earlier versions: the integrator restarts there),
 // and note (free text: where a state that no run wrote came from, e.g. an extrapolation; absent =
 // "").
 #pragma once
@@ -26,7 +26,7 @@
 #include <string>
 #include <vector>
 
-#include "capsule/adaptive_stepper.h"
+#include "capsule/integrator.h"
 #include "control/options.h"
 #include "geometry/mesh.h"
 
@@ -52,7 +52,7 @@ struct RunCheckpoint {
   bool pending_row = false, pending_frame = false, pending_vtk = false;
   double pending_ca = 0;
   double h_next = 0;
-  std::optional<capsule::AdaptiveStepper::History> step_history;
+  std::optional<capsule::Integrator::History> step_history;
   Eigen::VectorXd krylov_warm;  // the viscosity-ratio solve's warm start (empty for lambda = 1)
   std::string note;
   double pending_steady_ca = std::numeric_limits<double>::quiet_NaN();

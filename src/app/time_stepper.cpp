@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "capsule/adaptive_stepper.h"
+#include "capsule/chebyshev_stepper.h"
 #include "control/limits.h"
 
 namespace capflow::app {
@@ -46,12 +48,15 @@ void TimeStepper::configure(const control::TimeOptions& time) {
   o.tolerance = time.tolerance;
   o.h_min = control::kMinTimeStep;
   o.h_max = 0.1;
-  stepper_ = std::make_unique<capsule::AdaptiveStepper>(
-      [this](double t, const Eigen::VectorXd& y, Eigen::VectorXd* dydt) {
-        const Eigen::Matrix3Xd u = cap_.velocity(as_positions(y), (*ca_)(t));
-        *dydt = Eigen::Map<const Eigen::VectorXd>(u.data(), u.size());
-      },
-      o);
+  capsule::Integrator::Rhs rhs = [this](double t, const Eigen::VectorXd& y,
+                                         Eigen::VectorXd* dydt) {
+    const Eigen::Matrix3Xd u = cap_.velocity(as_positions(y), (*ca_)(t));
+    *dydt = Eigen::Map<const Eigen::VectorXd>(u.data(), u.size());
+  };
+  if (time.method == control::TimeMethod::Chebyshev)
+    stepper_ = std::make_unique<capsule::ChebyshevStepper>(std::move(rhs), o);
+  else
+    stepper_ = std::make_unique<capsule::AdaptiveStepper>(std::move(rhs), o);
   // From a fixed dt, the first adaptive step is that dt (a step known to be stable).
   if (cap_.step_count() > 0) restart(time.dt);
 }
@@ -120,7 +125,7 @@ TimeStepper::Outcome TimeStepper::advance_adaptive(double t_stop, const capsule:
   };
   Eigen::VectorXd y;
   try {
-    const capsule::AdaptiveStepper::Step s = stepper_->step(t_stop, finish, check, &y);
+    const capsule::Integrator::Step s = stepper_->step(t_stop, finish, check, &y);
     cap_.accept_step(as_positions(y), s.t);
     out.dt = s.h;
     out.rejected = s.error_rejections + s.check_rejections;

@@ -2,8 +2,9 @@
 //
 //   time.dt a number: classical RK4 with that step (Capsule::step), as before "auto" existed:
 //     the same results bit for bit; the run ends at the step that reaches t_end - dt/2.
-//   time.dt "auto": capsule::AdaptiveStepper (ARKODE ERKStep, Cash-Karp 5(4), PI controller)
-//     with time.tolerance. Every step ends at the next breakpoint at the latest: t_end, the next
+//   time.dt "auto": with time.tolerance, time.method "cash-karp": capsule::AdaptiveStepper
+//     (ARKODE ERKStep, Cash-Karp 5(4), Gustafsson's controller), "chebyshev":
+//     capsule::ChebyshevStepper (stabilized Runge-Kutta-Chebyshev, for stiff membranes). Every step ends at the next breakpoint at the latest: t_end, the next
 //     output time (CSV, frame, ParaView, checkpoint) and the next change of the Ca schedule (the
 //     end of a ramp or of a timed hold), so outputs and schedule changes fall on exact times.
 // A failed health check (capsule/health.h) rejects the step: the fixed stepper keeps the last
@@ -21,7 +22,7 @@
 #include <string>
 #include <vector>
 
-#include "capsule/adaptive_stepper.h"
+#include "capsule/integrator.h"
 #include "capsule/capsule.h"
 #include "capsule/health.h"
 #include "control/options.h"
@@ -30,7 +31,7 @@ namespace capflow::app {
 
 class TimeStepper {
  public:
-  using History = capsule::AdaptiveStepper::History;
+  using History = capsule::Integrator::History;
   // h_next: the adaptive integrator's first step (a checkpoint's; 0 = ARKODE's estimate);
   // history: the controller's memory a checkpoint saved (none: a fresh start).
   TimeStepper(capsule::Capsule& cap, const control::TimeOptions& time, double h_next = 0,
@@ -68,7 +69,7 @@ class TimeStepper {
 
   capsule::Capsule& cap_;
   control::TimeOptions time_;
-  std::unique_ptr<capsule::AdaptiveStepper> stepper_;
+  std::unique_ptr<capsule::Integrator> stepper_;
   const capsule::CaFunction* ca_ = nullptr;  // Ca(t) of the step being taken
 };
 

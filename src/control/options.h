@@ -52,8 +52,13 @@ struct StartOptions {
   bool restore_volume = true;  // "start.restore_volume"
 };
 
+// The adaptive integrator (time.dt "auto"): an explicit Runge-Kutta pair whose steps find the
+// stability limit, or a stabilized Runge-Kutta-Chebyshev method for stiff membranes.
+enum class TimeMethod { CashKarp, Chebyshev };
+
 struct TimeOptions {
   bool adaptive = true;     // "time.dt": "auto"
+  TimeMethod method = TimeMethod::CashKarp;  // "time.method"
   double dt = 1e-3;         // "time.dt": a number (used when !adaptive)
   double tolerance = 1e-6;  // "time.tolerance"
   double t_end = 20;        // "time.t_end"

@@ -203,6 +203,17 @@ std::vector<Field> build_fields() {
       "the local error tolerance", "a", kLive,
       "adaptive steps (time.dt \"auto\"): relative and absolute local error per step of the "
       "node positions"));
+  t.push_back(choice(
+      "time.method", [](const O& o) { return static_cast<int>(o.time.method); },
+      [](O& o, int i) { o.time.method = static_cast<TimeMethod>(i); },
+      {"cash-karp", "chebyshev"}, kFrozen,
+      "adaptive steps (time.dt \"auto\"): \"cash-karp\", the explicit 5(4) pair, whose steps "
+      "settle at the stability limit O(Ca dx / C); \"chebyshev\", a strongly damped second-order "
+      "Runge-Kutta-Chebyshev method whose stages grow with the stiffness: for stiff membranes "
+      "(large C, bending, fine meshes, low Ca), 2x to 7x fewer velocity evaluations on a red "
+      "cell. capflow steady's approach always uses \"cash-karp\" (it measures the stability "
+      "limit)"));
+  t.back().info.default_value = "\"cash-karp\"";
   t.push_back(number(
       "time.t_end", [](O& o) -> double& { return o.time.t_end; }, open_closed(0, 1e6),
       "the end time t_end", "1/G", kLive,

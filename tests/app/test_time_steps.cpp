@@ -16,7 +16,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-control::ControlOptions auto_options(const fs::path& dir, double t_end) {
+control::ControlOptions auto_options(const fs::path& dir, double t_end,
+                                     control::TimeMethod method = control::TimeMethod::CashKarp) {
   control::ParsedControl p = control::parse_control(R"({
     "capsule": {"law": "skalak", "C": 1}, "mesh": {"elements": 6, "nb": 6, "division": "cube"},
     "time": {"dt": "auto"},
@@ -25,7 +26,45 @@ control::ControlOptions auto_options(const fs::path& dir, double t_end) {
     "output": {"csv_every": 0.05, "checkpoint_every": 0.1}})");
   p.options.output.dir = dir.string();
   p.options.time.t_end = t_end;
+  p.options.time.method = method;
   return p.options;
+}
+
+// A run split at t = 0.2 and resumed from its checkpoint ends as the uninterrupted one does, bit
+// for bit: the integrator's next step and controller memory travel in the checkpoint.
+void expect_resume_bit_identical(control::TimeMethod method, const std::string& name) {
+  const fs::path a = test::fresh_dir(name + "_full"), b = test::fresh_dir(name + "_split");
+  long steps = 0;
+  {
+    app::Simulation sim(auto_options(a, 0.3, method), "");
+    const app::RunSummary s = sim.run();
+    ASSERT_FALSE(s.failed) << s.failure;
+    steps = s.steps;
+  }
+  {
+    app::Simulation sim(auto_options(b, 0.2, method), "");
+    ASSERT_FALSE(sim.run().failed);
+  }
+  {
+    app::ResumeOverrides ov;
+    ov.t_end = 0.3;
+    auto sim = app::Simulation::resume(b.string(), ov);
+    EXPECT_EQ(sim->run().steps, steps);
+  }
+  const auto x = [](const fs::path& dir) {
+    return output::Checkpoint::read(app::Simulation::latest_checkpoint(dir.string())).doubles("x");
+  };
+  const std::vector<double> xa = x(a), xb = x(b);
+  ASSERT_EQ(xa.size(), xb.size());
+  EXPECT_EQ(std::memcmp(xa.data(), xb.data(), xa.size() * sizeof(double)), 0);
+  auto strip = [](std::vector<std::string> v) {
+    for (auto& l : v) l = l.substr(0, l.rfind(','));
+    return v;
+  };
+  EXPECT_EQ(strip(test::lines_of(a / "timeseries.csv")),
+            strip(test::lines_of(b / "timeseries.csv")));
+  fs::remove_all(a);
+  fs::remove_all(b);
 }
 
 }  // namespace
@@ -50,38 +89,11 @@ TEST(TimeSteps, OutputTimesAndScheduleChangesAreHitExactly) {
 }
 
 TEST(TimeSteps, ResumedAutoStepRunIsBitIdentical) {
-  const fs::path a = test::fresh_dir("auto_full"), b = test::fresh_dir("auto_split");
-  long steps = 0;
-  {
-    app::Simulation sim(auto_options(a, 0.3), "");
-    const app::RunSummary s = sim.run();
-    ASSERT_FALSE(s.failed) << s.failure;
-    steps = s.steps;
-  }
-  {
-    app::Simulation sim(auto_options(b, 0.2), "");
-    ASSERT_FALSE(sim.run().failed);
-  }
-  {
-    app::ResumeOverrides ov;
-    ov.t_end = 0.3;
-    auto sim = app::Simulation::resume(b.string(), ov);
-    EXPECT_EQ(sim->run().steps, steps);
-  }
-  const auto x = [](const fs::path& dir) {
-    return output::Checkpoint::read(app::Simulation::latest_checkpoint(dir.string())).doubles("x");
-  };
-  const std::vector<double> xa = x(a), xb = x(b);
-  ASSERT_EQ(xa.size(), xb.size());
-  EXPECT_EQ(std::memcmp(xa.data(), xb.data(), xa.size() * sizeof(double)), 0);
-  auto strip = [](std::vector<std::string> v) {
-    for (auto& l : v) l = l.substr(0, l.rfind(','));
-    return v;
-  };
-  EXPECT_EQ(strip(test::lines_of(a / "timeseries.csv")),
-            strip(test::lines_of(b / "timeseries.csv")));
-  fs::remove_all(a);
-  fs::remove_all(b);
+  expect_resume_bit_identical(control::TimeMethod::CashKarp, "auto");
+}
+
+TEST(TimeSteps, ResumedChebyshevRunIsBitIdentical) {
+  expect_resume_bit_identical(control::TimeMethod::Chebyshev, "chebyshev");
 }
 
 TEST(TimeSteps, FixedStepsAreTheRk4StepsOfBefore) {
