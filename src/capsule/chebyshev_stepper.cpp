@@ -10,13 +10,6 @@ namespace capflow::capsule {
 
 namespace {
 
-// The damping eps (w0 = 1 + eps/s^2). The classical 2/13 (rkc.f) keeps the longest real interval,
-// 0.65 s^2, around a strip so thin that the membrane's complex eigenvalues leave it: at NE 10
-// NB 12 the red cell's Jacobian has eigenvalues -3040 +- 1985i beside rho = 1.8e4, and |R(h J)|
-// <= 1 holds only up to h = 1.2e-3 whatever s. eps = 16 widens the strip (h up to 7e-3 at s = 25)
-// and damps stiff transients by 1/T_s(w0) ~ 1/cosh(sqrt(2 eps)) ~ 1/140 a step, at 0.29 s^2 of
-// real interval. On that cell from t = 0 to 2 it took 9931 velocity evaluations, 2/13 17831.
-constexpr double kDamping = 16.0;
 constexpr double kSafety = 0.8;
 constexpr double kMaxGrowth = 2.0, kMaxShrink = 0.1;
 constexpr double kRadiusSafety = 1.2;  // the power iteration approaches rho from below
@@ -27,23 +20,42 @@ double rms(const Eigen::VectorXd& v) {
   return v.size() ? std::sqrt(v.squaredNorm() / static_cast<double>(v.size())) : 0.0;
 }
 
-// w0 = 1 + eps/s^2 and w1 = T_s'(w0)/T_s''(w0) of the s-stage damped Chebyshev polynomial.
-std::pair<double, double> chebyshev_shift(int s) {
-  const double w0 = 1.0 + kDamping / (double(s) * s);
+// The s-stage damped Chebyshev polynomial R_s(z) = a + b T_s(w0 + w1 z): w0 = 1 + eps/s^2,
+// w1 = T_s'(w0)/T_s''(w0), b = T_s''(w0)/T_s'(w0)^2, a = 1 - b T_s(w0) (rkc.f).
+struct Shift {
+  double w0, w1, a, b;
+};
+
+Shift chebyshev_shift(int s, double eps) {
+  const double w0 = 1.0 + eps / (double(s) * s);
   double z = w0, zm = 1, dz = 1, dzm = 0, d2 = 0, d2m = 0;
   for (int j = 2; j <= s; ++j) {
     const double zj = 2 * w0 * z - zm, dzj = 2 * w0 * dz - dzm + 2 * z,
                  d2j = 2 * w0 * d2 - d2m + 4 * dz;
     zm = z, z = zj, dzm = dz, dz = dzj, d2m = d2, d2 = d2j;
   }
-  return {w0, dz / d2};
+  const double b = d2 / (dz * dz);
+  return {w0, dz / d2, 1.0 - b * z, b};
 }
 
 }  // namespace
 
-double ChebyshevStepper::real_stability_interval(int s) {
-  const auto [w0, w1] = chebyshev_shift(s);
-  return (1.0 + w0) / w1;  // where the argument w0 + w1 z of T_s reaches -1
+std::complex<double> ChebyshevStepper::stability_function(int s, std::complex<double> z,
+                                                          double eps) {
+  const Shift c = chebyshev_shift(s, eps);
+  const std::complex<double> w = c.w0 + c.w1 * z;
+  std::complex<double> t0 = 1.0, t1 = w;
+  for (int j = 2; j <= s; ++j) {
+    const std::complex<double> t2 = 2.0 * w * t1 - t0;
+    t0 = t1;
+    t1 = t2;
+  }
+  return c.a + c.b * t1;
+}
+
+double ChebyshevStepper::real_stability_interval(int s, double eps) {
+  const Shift c = chebyshev_shift(s, eps);
+  return (1.0 + c.w0) / c.w1;  // where the argument w0 + w1 z of T_s reaches -1
 }
 
 int ChebyshevStepper::stages_for(double h, double rho) {
@@ -116,7 +128,8 @@ double ChebyshevStepper::estimate_radius() {
 void ChebyshevStepper::rkc(double h, int s, Eigen::VectorXd* y1) {
   // rkc.f's STEP, with the Chebyshev polynomials T_j(w0) and their first two derivatives
   // evaluated by their recurrences (Verwer, Hundsdorfer & Sommeijer 1990).
-  const auto [w0, w1] = chebyshev_shift(s);
+  const Shift c = chebyshev_shift(s, kDamping);
+  const double w0 = c.w0, w1 = c.w1;
   double bjm1 = 1.0 / ((2.0 * w0) * (2.0 * w0)), bjm2 = bjm1;
   yjm2_ = y_;
   double mus = w1 * bjm1;

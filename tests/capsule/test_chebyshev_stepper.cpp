@@ -60,10 +60,55 @@ TEST(ChebyshevStepper, StagesCoverTheSpectralRadius) {
   for (double hr : {0.5, 3.0, 40.0, 1e3, 5e3}) {
     const int s = ChebyshevStepper::stages_for(hr, 1.0);
     EXPECT_GE(ChebyshevStepper::real_stability_interval(s), hr) << hr;
-    if (s > 2) EXPECT_LT(ChebyshevStepper::real_stability_interval(s - 1), hr) << hr;
+    if (s > 2) {
+      EXPECT_LT(ChebyshevStepper::real_stability_interval(s - 1), hr) << hr;
+    }
   }
   const double b10 = ChebyshevStepper::real_stability_interval(10);
   EXPECT_NEAR(ChebyshevStepper::real_stability_interval(20) / b10, 4.0, 0.3);
+}
+
+TEST(ChebyshevStepper, StableOnItsWholeRealInterval) {
+  // |R_s(z)| <= 1 on [-beta(s), 0], and < 1 away from z = 0 (the damping).
+  for (int s : {2, 3, 5, 10, 25, 60}) {
+    const double beta = ChebyshevStepper::real_stability_interval(s);
+    double worst = 0;
+    for (int k = 1; k <= 2000; ++k) {
+      const double z = -beta * k / 2000.0;
+      const double r = std::abs(ChebyshevStepper::stability_function(s, z));
+      worst = std::max(worst, r);
+      if (z < -0.1 * beta) {
+        EXPECT_LT(r, 1.0) << "s = " << s << ", z = " << z;
+      }
+    }
+    EXPECT_LE(worst, 1.0 + 1e-12) << "s = " << s;
+    // Second order at z -> 0: R = 1 + z + z^2/2 + O(z^3).
+    const double z = 1e-3;
+    EXPECT_NEAR(ChebyshevStepper::stability_function(s, -z).real(), 1 - z + z * z / 2, 1e-8) << s;
+  }
+}
+
+TEST(ChebyshevStepper, OneStepMultipliesByTheStabilityFunction) {
+  // y' = -0.5 y, one step of h = 1 with the spectral radius pinned, so that the stage count is
+  // set by it: the step's stages are the polynomial's recurrence.
+  for (double rho : {0.5, 20.0, 400.0, 3000.0}) {
+    AdaptiveOptions o;
+    o.tolerance = 1e-1;
+    o.h_max = 1.0;
+    ChebyshevStepper st([](double, const Eigen::VectorXd& y, Eigen::VectorXd* d) { *d = -0.5 * y; },
+                        o);
+    ChebyshevStepper::History h;
+    h.e_prev = 0;
+    h.steps = 1;  // not a multiple of kRadiusSteps: rho is not estimated again
+    h.rho = rho;
+    st.resume(0.0, Eigen::VectorXd::Ones(1), 1.0, h);
+    Eigen::VectorXd y;
+    const ChebyshevStepper::Step step = st.step(1.0, nullptr, nullptr, &y);
+    ASSERT_EQ(step.error_rejections, 0);
+    const int s = st.last_stages();
+    EXPECT_EQ(s, ChebyshevStepper::stages_for(1.0, rho));
+    EXPECT_NEAR(y(0), ChebyshevStepper::stability_function(s, -0.5).real(), 1e-13) << "s = " << s;
+  }
 }
 
 TEST(ChebyshevStepper, EstimatesTheSpectralRadiusFromAbove) {
