@@ -17,6 +17,7 @@
 #include "capsule/capsule.h"
 #include "geometry/reference_shape.h"
 #include "membrane/bending.h"
+#include "red_cell.h"
 
 using namespace capflow;
 
@@ -151,15 +152,8 @@ void BM_Traction(benchmark::State& st) {
 void BM_RedCellBendingShare(benchmark::State& st) {
   const geometry::Mesh mesh(static_cast<int>(st.range(0)), static_cast<int>(st.range(1)));
   omp_set_num_threads(static_cast<int>(st.range(2)));
-  capsule::DynamicsOptions o;
-  o.shape.kind = geometry::ReferenceShape::Kind::Biconcave;
-  o.shape.axis = 0;
-  o.bending.modulus = 5e-3;
-  o.bending.model = membrane::BendingModel::Reference;
-  membrane::LawOptions law;
-  law.c = 10;
-  capsule::Capsule cap(mesh, law, capsule::Flow::simple_shear(), o);
-  for (int k = 0; k < 100; ++k) cap.step(5e-4, [](double) { return 0.1; });
+  const capsule::DynamicsOptions o = bench::red_cell_dynamics();
+  const capsule::Capsule cap = bench::red_cell(mesh, 100, 5e-4, 0.1);
   const membrane::Bending bending(mesh, geometry::reference_positions(mesh, o.shape), o.bending);
   const Eigen::Matrix3Xd x = cap.positions();
   std::vector<double> load_ms, velocity_ms, ratio;

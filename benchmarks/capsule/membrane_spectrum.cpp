@@ -26,6 +26,7 @@
 
 #include "capsule/capsule.h"
 #include "capsule/chebyshev_stepper.h"
+#include "red_cell.h"
 
 using namespace capflow;
 using cplx = std::complex<double>;
@@ -60,16 +61,8 @@ int main(int argc, char** argv) {
   const int steps = argc > 3 ? std::atoi(argv[3]) : 400;
   const double dt = argc > 4 ? std::atof(argv[4]) : 1e-4;
   const geometry::Mesh mesh(ne, nb);
-  capsule::DynamicsOptions o;
-  o.shape.kind = geometry::ReferenceShape::Kind::Biconcave;
-  o.shape.axis = 0;
-  o.bending.modulus = 5e-3;
-  o.bending.model = membrane::BendingModel::Reference;
-  membrane::LawOptions law;
-  law.c = 10;
-  capsule::Capsule cap(mesh, law, capsule::Flow::simple_shear(), o);
   const double ca = 0.1;
-  for (int k = 0; k < steps; ++k) cap.step(dt, [ca](double) { return ca; });
+  const capsule::Capsule cap = bench::red_cell(mesh, steps, dt, ca);
 
   // The Jacobian on the symmetry unknowns: perturb a target, expand by the symmetry, restrict.
   const std::vector<int>& targets = cap.symmetry().targets();
