@@ -8,7 +8,10 @@
 // +z like the inclination, unwrapped over time (the centroid: the mean of the grid points, exact
 // for the mesh's point-symmetric grids). A tank-treading membrane turns steadily while the shape
 // keeps its inclination; a tumbling capsule turns its shape with it. The phase's mean rate over
-// the run is stated in figures.md (a full turn is -360 degrees: the shear turns clockwise).
+// the run is stated in figures.md (a full turn is -360 degrees: the shear turns clockwise), and,
+// once the point has made a full turn, the duration T of its last one: the tank-treading period
+// of a tank-treading or swinging cell (the tumbling period of a tumbling one), whose frequency
+// f = 1/T the experiments report as f / G or 4 pi f / G (1 for a rigid sphere's G / 2 spin).
 #include <cmath>
 #include <filesystem>
 #include <sstream>
@@ -88,6 +91,21 @@ bool phase_series(Writer& w, const RunInfo& run, Block* block) {
   return true;
 }
 
+// The duration of the last full turn (360 degrees of phase, either way) that ends at the last
+// row, the start interpolated linearly between rows; 0 when the phase has not made a full turn.
+// Sets *start to the turn's start time.
+double last_turn_period(const Block& b, double* start) {
+  const std::vector<double>& end = b.rows.back();
+  for (size_t i = b.rows.size() - 1; i-- > 0;) {
+    const double d0 = std::abs(b.rows[i][1] - end[1]), d1 = std::abs(b.rows[i + 1][1] - end[1]);
+    if (d0 >= 360 && d1 < 360) {
+      *start = b.rows[i][0] + (b.rows[i + 1][0] - b.rows[i][0]) * (d0 - 360) / (d0 - d1);
+      return end[0] - *start;
+    }
+  }
+  return 0;
+}
+
 }  // namespace
 
 void tank_treading_figures(Writer& w, const std::vector<RunInfo>& runs) {
@@ -112,6 +130,11 @@ void tank_treading_figures(Writer& w, const std::vector<RunInfo>& runs) {
     m << run.dir << ": the membrane point turns at " << short_num(rate) << " deg per unit G t ("
       << short_num(rate / 360) << " turns) from t = " << short_num(b.rows.front()[0]) << " to "
       << short_num(b.rows.back()[0]);
+    double start = 0;
+    if (const double period = last_turn_period(b, &start); period > 0)
+      m << "; its last full turn, from t = " << short_num(start) << ", took T G = "
+        << short_num(period) << ": f / G = " << short_num(1 / period)
+        << ", 4 pi f / G = " << short_num(4 * M_PI / period);
     f.notes.push_back(m.str());
     f.sources.push_back((std::filesystem::path(run.dir) / "surface.pvd").string());
     f.blocks.push_back(std::move(b));

@@ -299,9 +299,10 @@ TEST(FigureCommand, ShearRunsGetTheInclinationAndNoTipCurvature) {
 
 TEST(FigureCommand, TankTreadingPhaseFollowsAMembranePoint) {
   // A rigid ellipsoid turning about y at -0.5 rad per unit time (as a rigid body in the shear
-  // u = (z, 0, 0)), surfaces at t = 0, 0.5, .., 8 (-229 degrees in all: the phase crosses the
-  // +-180 wrap): ts_tank_treading is the unwrapped angle of the point that starts highest (the
-  // +z pole, 90 degrees), -0.5 rad per unit time exactly; a run without surfaces gets a note.
+  // u = (z, 0, 0)), surfaces at t = 0, 0.5, .., 16 (-458 degrees in all: the phase crosses the
+  // +-180 wrap twice): ts_tank_treading is the unwrapped angle of the point that starts highest
+  // (the +z pole, 90 degrees), -0.5 rad per unit time exactly, and its last full turn took
+  // T = 4 pi (f / G = 1 / (4 pi), 4 pi f / G = 1); a run without surfaces gets a note.
   const fs::path d = fresh_dir("tank_treading");
   make_run(d / "turning", 0.3, false);
   put(d / "turning" / "control.json", R"({"ca": 0.1, "flow": {"type": "simple-shear"}})");
@@ -310,7 +311,7 @@ TEST(FigureCommand, TankTreadingPhaseFollowsAMembranePoint) {
   const capflow::geometry::Mesh mesh(6, 7);
   const auto body = capflow::geometry::map_points(mesh.reference(),
                                                   capflow::geometry::ellipsoid_map(1.3, 0.9, 0.8));
-  for (int k = 0; k <= 16; ++k) {
+  for (int k = 0; k <= 32; ++k) {
     const double t = 0.5 * k, a = -0.5 * t;
     Eigen::Matrix3d turn;
     turn << std::cos(a), 0, -std::sin(a), 0, 1, 0, std::sin(a), 0, std::cos(a);
@@ -337,12 +338,15 @@ TEST(FigureCommand, TankTreadingPhaseFollowsAMembranePoint) {
       << slurp(d / "log.txt");
   const auto phase = read_dat(out / "ts_tank_treading.dat");
   ASSERT_EQ(phase.size(), 1u);
-  ASSERT_EQ(phase[0].size(), 17u);
+  ASSERT_EQ(phase[0].size(), 33u);
   for (const auto& row : phase[0])
     EXPECT_NEAR(row[1], 90 - 0.5 * row[0] * 180 / M_PI, 1e-9) << "t = " << row[0];
   const std::string manifest = slurp(out / "figures.md");
   EXPECT_NE(manifest.find("no surface.pvd"), std::string::npos) << manifest;
   EXPECT_NE(manifest.find("-28.6479 deg per unit G t"), std::string::npos) << manifest;
+  EXPECT_NE(manifest.find("from t = 3.43363, took T G = 12.5664: f / G = 0.0795775, 4 pi f / G = 1"),
+            std::string::npos)
+      << manifest;
   fs::remove_all(d);
 }
 
