@@ -3,6 +3,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -25,34 +26,56 @@ using control::Record;
 
 namespace {
 
-// A run written before timeseries.csv had its dt column: the column is inserted (empty) into the
-// header and every row, so that the rows a resume appends line up with them.
-void upgrade_timeseries(const RunDirectory& dir) {
+std::vector<std::string> csv_fields(const std::string& line) {
+  std::vector<std::string> f;
+  std::istringstream in(line);
+  for (std::string x; std::getline(in, x, ',');) f.push_back(x);
+  if (!line.empty() && line.back() == ',') f.emplace_back();
+  return f;
+}
+
+// A run written by an earlier capflow, whose timeseries.csv lacks columns of the present layout
+// `header` (dt, bending_energy): its header and every row are rewritten in the present layout by
+// column name, the missing columns empty, so that the rows a resume appends line up with them (a
+// torn last line stays torn). A header naming a column the present layout does not have is left
+// alone: the checkpoint's row count decides what happens then.
+void upgrade_timeseries(const RunDirectory& dir, std::string header) {
   const fs::path path = dir.file("timeseries.csv");
   std::error_code ec;
   if (!fs::exists(path, ec)) return;
+  if (!header.empty() && header.back() == '\n') header.pop_back();
+  const std::vector<std::string> now = csv_fields(header);
   std::string text;
+  std::vector<std::string> before;
   try {
     files::InputFile in(path.string(), "time series", figures::kMaxTableBytes);
     const std::string head = in.read_prefix(4096);
-    const std::string header = head.substr(0, head.find('\n'));
-    const std::string before = ",steps,wall_s";
-    if (header.size() < before.size() ||
-        header.compare(header.size() - before.size(), before.size(), before) != 0)
-      return;
+    const size_t eol = head.find('\n');
+    if (eol == std::string::npos || head.compare(0, eol, header) == 0) return;
+    before = csv_fields(head.substr(0, eol));
+    for (const std::string& name : before)
+      if (std::find(now.begin(), now.end(), name) == now.end()) return;
     text = in.read_all();
   } catch (const files::InputError& e) {
     throw UserError(e.what());
   }
-  std::istringstream in(text);
-  std::string header;
-  std::getline(in, header);
+  std::vector<long> from(now.size(), -1);  // the old column of each present one
+  for (size_t i = 0; i < now.size(); ++i)
+    for (size_t j = 0; j < before.size(); ++j)
+      if (now[i] == before[j]) from[i] = static_cast<long>(j);
   std::ostringstream out;
-  out << header.substr(0, header.size() - 6) << "dt,wall_s\n";
-  for (std::string line; std::getline(in, line);) {
-    const size_t last = line.rfind(',');
-    if (last == std::string::npos) continue;
-    out << line.substr(0, last) << "," << line.substr(last) << "\n";
+  out << header << "\n";
+  size_t pos = text.find('\n') + 1;
+  while (pos < text.size()) {
+    const size_t eol = text.find('\n', pos);
+    const std::string line = text.substr(pos, eol == std::string::npos ? eol : eol - pos);
+    const std::vector<std::string> old = csv_fields(line);
+    for (size_t i = 0; i < now.size(); ++i)
+      out << (i ? "," : "")
+          << (from[i] >= 0 && from[i] < static_cast<long>(old.size()) ? old[from[i]] : "");
+    if (eol == std::string::npos) break;
+    out << "\n";
+    pos = eol + 1;
   }
   dir.write_text("timeseries.csv", out.str());
 }
@@ -181,7 +204,7 @@ std::unique_ptr<RunLifecycle> RunLifecycle::resume(const std::string& run_dir, c
   l->dir_ = RunDirectory::open(run_dir, RunDirectory::Mode::Resume);
   RunDirectory& dir = *l->dir_;
   std::vector<std::string> skipped;
-  upgrade_timeseries(dir);
+  upgrade_timeseries(dir, spec.timeseries_header);
   l->resumed_ = read_latest_checkpoint(run_dir, &skipped, rows_on_disk(dir));
   const RunCheckpoint& c = *l->resumed_;
   if (spec.check) spec.check(l->resumed_);

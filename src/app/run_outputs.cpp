@@ -60,6 +60,7 @@ Measures measure_state(const capsule::Capsule& cap, bool full) {
     m.tau_max = f.tension1.maxCoeff(&imax);
     m.tau_min = f.tension2.minCoeff(&imin);
     m.tau_min_at = cap.positions().col(imin);
+    if (cap.bending()) m.bending_energy = cap.bending()->energy(cap.positions());
   }
   return m;
 }
@@ -158,7 +159,7 @@ void RunOutputs::write_row(const StateRecord& s) {
   life_.dir().timeseries().append(output::records::format_row(
       output::records::timeseries(),
       {cap.time(), s.ca, d.D, d.L, d.S, d.W, d.Lc, d.Sc, d.Wc, d.area, d.volume,
-       d.edge_curvature, s.m.tau_max, s.m.tau_min, d.inclination_deg,
+       d.edge_curvature, s.m.tau_max, s.m.tau_min, s.m.bending_energy, d.inclination_deg,
        d.volume / cap.initial_volume() - 1.0, static_cast<double>(cap.step_count()), s.dt,
        s.wall}));
   ++rows_;

@@ -34,6 +34,7 @@ struct Measures {
   diagnostics::ShapeDiagnostics shape;
   double tau_max = 0, tau_min = 0;
   Eigen::Vector3d tau_min_at = Eigen::Vector3d::Zero();
+  double bending_energy = 0;  // W_b (Gs a^2; 0 without bending), full measures only
 };
 Measures measure_state(const capsule::Capsule& cap, bool full);
 

@@ -55,7 +55,8 @@ Layout layout(const char* file, std::initializer_list<Columns> groups) {
 const Layout& timeseries() {
   static const Layout l =
       layout("timeseries.csv", {kTimeAndCa, kD, kAxes, kArea, kVolume, kCurvatureAndTensions,
-                                {{"inclination_deg", "deg", "%.8g"},
+                                {{"bending_energy", "Gs a^2", kG},
+                                 {"inclination_deg", "deg", "%.8g"},
                                  {"volume_drift", "", "%.6e"},
                                  {"steps", "", "%ld"},
                                  {"dt", "1/G", "%.6g"},

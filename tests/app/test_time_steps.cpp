@@ -5,10 +5,14 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include "app/simulation.h"
 #include "control/control_file.h"
 #include "output/checkpoint.h"
+#include "output/records.h"
 #include "process_util.h"
 
 using namespace capflow;
@@ -190,9 +194,78 @@ TEST(TimeSteps, AResumedRunFromBeforeTheDtColumnGetsIt) {
   }
   const std::vector<std::string> lines = test::lines_of(d / "timeseries.csv");
   EXPECT_NE(lines.at(0).find(",steps,dt,wall_s"), std::string::npos) << lines[0];
-  for (const std::string& l : lines) EXPECT_EQ(std::count(l.begin(), l.end(), ','), 18) << l;
+  for (const std::string& l : lines) EXPECT_EQ(std::count(l.begin(), l.end(), ','), 19) << l;
   const std::string& last = lines.back();  // a row of the resumed session: dt filled in
   const size_t end = last.rfind(','), begin = last.rfind(',', end - 1);
   EXPECT_EQ(std::stod(last.substr(begin + 1, end - begin - 1)), 0.004) << last;
+  fs::remove_all(d);
+}
+
+namespace {
+
+// The lines of a CSV file without the named columns.
+std::string without_columns(const fs::path& file, const std::vector<std::string>& names) {
+  const std::vector<std::string> lines = test::lines_of(file);
+  std::vector<bool> keep;
+  std::string out;
+  for (const std::string& line : lines) {
+    std::vector<std::string> f;
+    std::istringstream in(line);
+    for (std::string x; std::getline(in, x, ',');) f.push_back(x);
+    if (keep.empty())
+      for (const std::string& x : f)
+        keep.push_back(std::find(names.begin(), names.end(), x) == names.end());
+    std::string row;
+    for (size_t i = 0; i < f.size(); ++i)
+      if (keep.at(i)) row += (row.empty() ? "" : ",") + f[i];
+    out += row + "\n";
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST(TimeSteps, RowsCarryTheBendingEnergyAndAResumeFromBeforeThatColumnGetsIt) {
+  // A sphere with Helfrich bending (c0 = 0) at rest: W_b = (kappa_b / 2) INT (2 H)^2 dA =
+  // 8 pi Eb on the unit sphere, in the row at t = 0. The same run directory with its
+  // bending_energy and dt columns removed (a run of an earlier capflow) resumes: the header
+  // becomes today's, the old rows get the columns empty, the new ones filled.
+  const fs::path d = test::fresh_dir("bending_column");
+  control::ParsedControl p = control::parse_control(R"({
+    "capsule": {"law": "skalak", "C": 1, "bending": {"modulus": 0.01}},
+    "mesh": {"elements": 6, "nb": 8, "division": "cube"}, "ca": 0.1,
+    "time": {"dt": 0.004, "t_end": 0.1},
+    "output": {"csv_every": 0.05, "checkpoint_every": 0.1}})");
+  p.options.output.dir = d.string();
+  {
+    app::Simulation sim(p.options, "");
+    ASSERT_FALSE(sim.run().failed);
+  }
+  const auto column = [&](const std::vector<std::string>& lines, size_t row) {
+    std::vector<std::string> head, f;
+    std::istringstream h(lines.at(0)), r(lines.at(row));
+    for (std::string x; std::getline(h, x, ',');) head.push_back(x);
+    for (std::string x; std::getline(r, x, ',');) f.push_back(x);
+    if (!lines.at(row).empty() && lines.at(row).back() == ',') f.emplace_back();
+    const size_t i = std::find(head.begin(), head.end(), "bending_energy") - head.begin();
+    return i < f.size() ? f[i] : std::string("missing");
+  };
+  std::vector<std::string> lines = test::lines_of(d / "timeseries.csv");
+  ASSERT_EQ(lines.size(), 4u);  // t = 0, 0.05, 0.1
+  EXPECT_NEAR(std::stod(column(lines, 1)), 8 * M_PI * 0.01, 1e-4 * 8 * M_PI * 0.01);
+  EXPECT_GT(std::stod(column(lines, 3)), 0);
+  test::write_file(d / "timeseries.csv",
+                   without_columns(d / "timeseries.csv", {"bending_energy", "dt"}));
+  {
+    app::ResumeOverrides ov;
+    ov.t_end = 0.2;
+    auto sim = app::Simulation::resume(d.string(), ov);
+    ASSERT_FALSE(sim->run().failed);
+  }
+  lines = test::lines_of(d / "timeseries.csv");
+  ASSERT_EQ(lines.size(), 6u);
+  EXPECT_EQ(lines[0] + "\n", output::records::timeseries().header());
+  for (size_t r = 1; r <= 3; ++r) EXPECT_EQ(column(lines, r), "") << lines[r];
+  for (size_t r = 4; r <= 5; ++r) EXPECT_GT(std::stod(column(lines, r)), 0) << lines[r];
   fs::remove_all(d);
 }
