@@ -4,6 +4,7 @@
 
 #include "app/cpu_budget.h"
 #include "app/errors.h"
+#include "membrane/bending.h"
 #include "membrane/membrane.h"
 
 namespace capflow::app {
@@ -73,6 +74,10 @@ render::Snapshot state_snapshot(const capsule::Capsule& cap, const Eigen::Matrix
   const membrane::MembraneFields f = cap.fields(x);
   sn.tau1.assign(f.tension1.data(), f.tension1.data() + f.tension1.size());
   sn.tau2.assign(f.tension2.data(), f.tension2.data() + f.tension2.size());
+  if (cap.bending()) {
+    const Eigen::VectorXd w = cap.bending()->energy_density(x);
+    sn.bending.assign(w.data(), w.data() + w.size());
+  }
   sn.time = time;
   sn.ca = ca;
   sn.law = law;

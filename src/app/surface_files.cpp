@@ -57,6 +57,7 @@ render::Snapshot snapshot_from_vtk(const output::VtkSurface& v) {
     s.tau2 = t2 ? *t2 : *t1;
   }
   if (const auto* h = scalar("mean_curvature")) s.curvature = *h;
+  if (const auto* w = scalar("bending_energy_density")) s.bending = *w;
   if (auto it = v.point_arrays.find("velocity");
       it != v.point_arrays.end() && it->second.components == 3) {
     const std::vector<double>& u = it->second.values;

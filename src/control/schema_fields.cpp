@@ -1,4 +1,7 @@
 // capflow/control/schema_fields: the field table - every key of the control file, and its groups.
+#include <algorithm>
+#include <iterator>
+
 #include "capsule/viscosity_ratio.h"
 #include "control/limits.h"
 #include "control/schema_builders.h"
@@ -294,10 +297,20 @@ std::vector<Field> build_fields() {
   t.push_back(boolean(
       "render.orthographic", [](O& o) -> bool& { return o.render.camera.orthographic; }, kFrozen,
       "orthographic instead of perspective projection"));
+  // The colour fields a control file names, in the order of the choice's values.
+  static constexpr render::ColorField kFields[] = {
+      render::ColorField::MaxTension, render::ColorField::MinTension,
+      render::ColorField::MeanTension, render::ColorField::Plain,
+      render::ColorField::BendingEnergy};
   t.push_back(choice(
-      "render.field", [](const O& o) { return static_cast<int>(o.render.field); },
-      [](O& o, int i) { o.render.field = static_cast<render::ColorField>(i); },
-      {"max-tension", "min-tension", "mean-tension", "plain"}, kFrozen, "colour field"));
+      "render.field",
+      [](const O& o) {
+        const auto* at = std::find(std::begin(kFields), std::end(kFields), o.render.field);
+        return at == std::end(kFields) ? 0 : static_cast<int>(at - std::begin(kFields));
+      },
+      [](O& o, int i) { o.render.field = kFields[i]; },
+      {"max-tension", "min-tension", "mean-tension", "plain", "bending-energy"}, kFrozen,
+      "colour field (bending-energy: (kappa_b / 2)(2H - c0)^2, Gs; zero without bending)"));
   t.push_back(choice(
       "render.colormap", [](const O& o) { return static_cast<int>(o.render.colormap); },
       [](O& o, int i) { o.render.colormap = static_cast<render::ColorMap>(i); },

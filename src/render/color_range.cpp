@@ -101,10 +101,18 @@ void ColorRange::update(double data_lo, double data_hi) {
     hi = m;
   }
   if (mode_ == RangeMode::Grow && started_) {
-    if (lo >= lo_ && hi <= hi_) return;  // inside: the range stays
-    lo = std::min(lo, lo_);
-    hi = std::max(hi, hi_);
+    if (placeholder_) {  // the range so far was a flat frame's placeholder: its data count
+      lo = std::min(lo, seen_lo_);
+      hi = std::max(hi, seen_hi_);
+    } else {
+      if (lo >= lo_ && hi <= hi_) return;  // inside: the range stays
+      lo = std::min(lo, lo_);
+      hi = std::max(hi, hi_);
+    }
   }
+  seen_lo_ = lo;
+  seen_hi_ = hi;
+  placeholder_ = !(hi - lo > 1e-12 * std::max(1.0, std::max(std::abs(lo), std::abs(hi))));
   round_out(&lo, &hi);
   if (symmetric_) {
     const double m = std::max(-lo, hi);

@@ -11,7 +11,11 @@
 //         colour bar marks them).
 // Symmetric (diverging colour maps): [-m, m] with m the larger magnitude.
 // A frame whose values are all equal (a sphere at rest: 0) gets [c - d, c + d], d = max(|c|, 1)/2,
-// rounded out like any other. A frame with non-finite values leaves the range as it was.
+// rounded out like any other. In Grow mode that width is a placeholder, not a scale: the first
+// frame with a spread of values sets the range to its data and the equal value (a red cell at
+// rest in its reference shape has no bending energy; once it deforms, densities of 1e-3 get a
+// range of their own instead of the placeholder's unit width). A frame with non-finite values
+// leaves the range as it was.
 #pragma once
 
 #include <string>
@@ -53,6 +57,8 @@ class ColorRange {
   RangeMode mode_;
   bool symmetric_;
   bool started_ = false;
+  bool placeholder_ = false;   // Grow: every value so far equal to seen_lo_ (= seen_hi_)
+  double seen_lo_ = 0, seen_hi_ = 0;  // Grow: the data drawn so far
   double lo_, hi_;
   bool under_ = false, over_ = false;
 };

@@ -84,6 +84,8 @@ const char* field_name(ColorField f) {
       return "curvature";
     case ColorField::Speed:
       return "speed";
+    case ColorField::BendingEnergy:
+      return "bending";
     default:
       return "plain";
   }
@@ -100,6 +102,8 @@ const char* field_label(ColorField f) {
       return "H a";
     case ColorField::Speed:
       return "|u| / G a";
+    case ColorField::BendingEnergy:
+      return "bending energy / G\u209b";
     default:
       return "";
   }
@@ -166,6 +170,8 @@ bool parse_field(const std::string& s, ColorField* out) {
     *out = ColorField::MeanTension;
   else if (s == "plain")
     *out = ColorField::Plain;
+  else if (s == "bending" || s == "bending-energy")
+    *out = ColorField::BendingEnergy;
   else
     return false;
   return true;

@@ -20,7 +20,15 @@ enum class View { Oblique, XY, XZ, YZ, Custom };
 // Colour field: tau1 (max principal tension), tau2 (min), (tau1 + tau2)/2, plain colour; and
 // for the live console (not a control-file choice) the mean curvature H (1/a: 1 on the unit
 // sphere) and the nodes' speed |dx/dt| (G a), from the snapshot's optional arrays.
-enum class ColorField { MaxTension, MinTension, MeanTension, Plain, MeanCurvature, Speed };
+enum class ColorField {
+  MaxTension,
+  MinTension,
+  MeanTension,
+  Plain,
+  MeanCurvature,
+  Speed,
+  BendingEnergy  // the bending energy density (kappa_b / 2)(2H - c0)^2
+};
 enum class ColorMap { Viridis, CoolWarm };  // assets/viridis.csv, assets/coolwarm.csv
 // Edge anti-aliasing. Multisample: `msaa` samples per pixel. Lines: no multisampling; the element
 // edges and the surface's outline (render/silhouette.h) are drawn as smooth (coverage-blended)

@@ -33,6 +33,8 @@ struct Snapshot {
   std::vector<double> tau2;  // ne*nb*nb (or empty)
   std::vector<double> curvature;  // mean curvature H at the nodes, ne*nb*nb (or empty)
   std::vector<double> speed;      // |dx/dt| at the nodes, ne*nb*nb (or empty)
+  std::vector<double> bending;    // bending energy density (kappa_b / 2)(2H - c0)^2 (Gs) at the
+                                  // nodes, ne*nb*nb (or empty: no bending)
   double time = 0;           // simulated time (units of 1/shear rate)
   double ca = 0;             // capillary number
   std::string law;           // membrane law name, e.g. "neo-Hookean"
@@ -56,6 +58,8 @@ struct Snapshot {
     if (!curvature.empty() && curvature.size() != n)
       return fail("snapshot: curvature must hold ne*nb*nb");
     if (!speed.empty() && speed.size() != n) return fail("snapshot: speed must hold ne*nb*nb");
+    if (!bending.empty() && bending.size() != n)
+      return fail("snapshot: bending must hold ne*nb*nb");
     return true;
   }
 };

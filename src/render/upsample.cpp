@@ -14,8 +14,10 @@ namespace capflow::render {
 std::vector<double> nodal_field(const Snapshot& s, ColorField f) {
   const size_t n = static_cast<size_t>(s.num_nodes());
   std::vector<double> v(n, 0.0);
-  if (f == ColorField::MeanCurvature || f == ColorField::Speed) {
-    const std::vector<double>& a = f == ColorField::Speed ? s.speed : s.curvature;
+  if (f == ColorField::MeanCurvature || f == ColorField::Speed || f == ColorField::BendingEnergy) {
+    const std::vector<double>& a = f == ColorField::Speed           ? s.speed
+                                   : f == ColorField::BendingEnergy ? s.bending
+                                                                    : s.curvature;
     if (a.size() == n) v = a;
     return v;
   }

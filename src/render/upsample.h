@@ -36,7 +36,7 @@ struct SurfaceMesh {
   int num_vertices() const { return static_cast<int>(value.size()); }
 };
 
-// Nodal colour field of a snapshot: tau1, tau2, (tau1+tau2)/2, curvature, speed, or 0 (Plain,
+// Nodal colour field of a snapshot: tau1, tau2, (tau1+tau2)/2, curvature, speed, bending, or 0 (Plain,
 // or the array is not in the snapshot).
 std::vector<double> nodal_field(const Snapshot& s, ColorField f);
 

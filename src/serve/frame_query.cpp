@@ -80,8 +80,9 @@ FrameQuery parse_frame_query(const Request& r, std::string* error) {
     else if (f == "plain") q.field = render::ColorField::Plain;
     else if (f == "curvature") q.field = render::ColorField::MeanCurvature;
     else if (f == "speed") q.field = render::ColorField::Speed;
+    else if (f == "bending") q.field = render::ColorField::BendingEnergy;
     else {
-      *error = "field must be one of tau1, tau2, mean, curvature, speed, plain";
+      *error = "field must be one of tau1, tau2, mean, curvature, speed, bending, plain";
       return q;
     }
   }

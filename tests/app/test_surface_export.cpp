@@ -11,7 +11,9 @@
 #include <sstream>
 #include <string>
 
+#include "app/frames.h"
 #include "app/surface_export.h"
+#include "capsule/capsule.h"
 #include "geometry/mesh.h"
 #include "geometry/surface.h"
 #include "membrane/bending.h"
@@ -70,6 +72,23 @@ TEST(SurfaceExport, BendingEnergyDensityWhenGiven) {
   for (double value : values) EXPECT_NEAR(value, 0.02, 2e-4);
   EXPECT_EQ(surface_export(mesh, {&x, nullptr, &sn}, 16).point_arrays.count("bending_energy_density"),
             0u);
+}
+
+// A frame's snapshot carries the bending energy density when the capsule bends (2 Eb on the
+// unit sphere with Helfrich bending, c0 = 0: what render.field "bending-energy" colours by),
+// and no such array when it does not.
+TEST(SurfaceExport, FrameSnapshotsCarryTheBendingEnergyDensity) {
+  const Mesh mesh(6, 12);
+  capflow::capsule::DynamicsOptions o;
+  o.bending.modulus = 0.01;
+  const capflow::capsule::Capsule bent(mesh, {}, capflow::capsule::Flow::simple_shear(), o);
+  const capflow::render::Snapshot s =
+      capflow::app::state_snapshot(bent, bent.positions(), 0, 0.1, "skalak", {});
+  ASSERT_EQ(s.bending.size(), static_cast<size_t>(mesh.num_local()));
+  for (double w : s.bending) EXPECT_NEAR(w, 0.02, 2e-4);
+  const capflow::capsule::Capsule plain(mesh, {}, capflow::capsule::Flow::simple_shear());
+  EXPECT_TRUE(
+      capflow::app::state_snapshot(plain, plain.positions(), 0, 0.1, "skalak", {}).bending.empty());
 }
 
 TEST(SurfaceExport, UpsampledSurfaceIsTheInterpolant) {

@@ -9,6 +9,7 @@
 #include "control/edit.h"
 #include "control/stability.h"
 #include "control/sweep.h"
+#include "render/options.h"
 
 using namespace capflow::control;
 
@@ -473,4 +474,21 @@ TEST(ControlFile, ReferenceShapesAndBending) {
   expect_contains(issue_at(R"({"ca": 0.1, "capsule": {"bending": {"model": "wlc"}}})",
                            "capsule.bending.model"),
                   "helfrich");
+}
+
+TEST(ControlFile, RenderFieldNamesMapToTheirColourFields) {
+  // render.field's choices and the colour fields they select (the choice's order is not the
+  // enum's: the console-only fields sit between plain and bending-energy).
+  const std::pair<const char*, capflow::render::ColorField> cases[] = {
+      {"max-tension", capflow::render::ColorField::MaxTension},
+      {"min-tension", capflow::render::ColorField::MinTension},
+      {"mean-tension", capflow::render::ColorField::MeanTension},
+      {"plain", capflow::render::ColorField::Plain},
+      {"bending-energy", capflow::render::ColorField::BendingEnergy}};
+  for (const auto& [name, field] : cases) {
+    const ParsedControl p = parse_control(std::string(R"({"ca": 0.4, "render": {"field": ")") +
+                                          name + "\"}}");
+    EXPECT_EQ(p.options.render.field, field) << name;
+  }
+  EXPECT_THROW(parse_control(R"({"ca": 0.4, "render": {"field": "curvature"}})"), ControlError);
 }

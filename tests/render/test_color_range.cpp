@@ -62,6 +62,35 @@ TEST(ColorRange, GrowsToHoldEveryFrameAndNeverShrinks) {
   EXPECT_GT(changes, 0);
 }
 
+TEST(ColorRange, AFlatFirstFrameIsOnlyAPlaceholderForGrow) {
+  // A red cell at rest in its reference shape: bending energy 0 everywhere (placeholder range
+  // [-0.6, 0.6]); while frames stay flat the placeholder stays; the first frame with a spread
+  // (0 to 0.0031) sets a range of its own scale holding every value drawn, [0, 0.004]; from
+  // then on the range only grows.
+  ColorRange r(RangeMode::Grow, false);
+  r.update(0, 0);
+  EXPECT_DOUBLE_EQ(r.lo(), -0.6);
+  EXPECT_DOUBLE_EQ(r.hi(), 0.6);
+  r.update(0, 0);
+  EXPECT_DOUBLE_EQ(r.lo(), -0.6);
+  r.update(0, 0.0031);
+  EXPECT_DOUBLE_EQ(r.lo(), 0);
+  EXPECT_DOUBLE_EQ(r.hi(), 0.004);
+  r.update(0.001, 0.002);
+  EXPECT_DOUBLE_EQ(r.lo(), 0);
+  EXPECT_DOUBLE_EQ(r.hi(), 0.004);
+  r.update(-0.001, 0.002);  // grows, never back to a placeholder
+  EXPECT_LE(r.lo(), -0.001);
+  EXPECT_DOUBLE_EQ(r.hi(), 0.004);
+  // a flat frame at 2 then a spread above it: the range holds the 2 as well
+  ColorRange s(RangeMode::Grow, false);
+  s.update(2, 2);
+  s.update(2.5, 3);
+  EXPECT_LE(s.lo(), 2);
+  EXPECT_GE(s.hi(), 3);
+  EXPECT_GT(s.lo(), 1.5);  // not the placeholder's [1, 3]
+}
+
 TEST(ColorRange, FrameModeFollowsEachFrame) {
   ColorRange r(RangeMode::Frame, false);
   r.update(0.0, 4.3);

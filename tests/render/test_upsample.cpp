@@ -117,6 +117,20 @@ TEST(Upsample, ExactForPolynomialOfDegreeNbMinusOne) {
     }
 }
 
+TEST(Upsample, BendingFieldIsTheSnapshotsBendingArray) {
+  // ColorField::BendingEnergy colours by the snapshot's bending array; without one (a capsule
+  // with no bending), by zero; an array of another size is refused.
+  Snapshot s = make(6, 5, geometry::ellipsoid_map(1, 1, 1));
+  EXPECT_EQ(nodal_field(s, ColorField::BendingEnergy), std::vector<double>(s.tau1.size(), 0.0));
+  s.bending = s.tau1;
+  EXPECT_EQ(nodal_field(s, ColorField::BendingEnergy), s.tau1);
+  SurfaceMesh m;
+  Upsampler(5, 9).build(s, ColorField::BendingEnergy, &m);
+  Upsampler(5, 9).build(s, ColorField::MaxTension, &m);
+  s.bending.pop_back();
+  EXPECT_THROW(Upsampler(5, 9).build(s, ColorField::BendingEnergy, &m), std::invalid_argument);
+}
+
 TEST(Upsample, RejectsInconsistentSnapshot) {
   Snapshot s = make(6, 6, geometry::ellipsoid_map(1, 1, 1));
   s.x.pop_back();
