@@ -9,7 +9,8 @@ namespace capflow::app {
 void add_render_flags(CLI::App* sub, RenderFlags* f, const std::string& what) {
   sub->add_option("--width", f->width, what + "image width (px)");
   sub->add_option("--height", f->height, what + "image height (px)");
-  sub->add_option("--field", f->field, what + "colour: max | min | mean | plain");
+  sub->add_option("--field", f->field,
+                  what + "colour: max | min | mean | bending (the bending energy density) | plain");
   sub->add_option("--colormap", f->colormap, "viridis | coolwarm (diverging, symmetric range)");
   sub->add_option("--range", f->range, "fixed colour range MIN,MAX (default: automatic)")
       ->delimiter(',')
@@ -28,7 +29,7 @@ void apply_render_flags(const RenderFlags& f, render::RenderOptions* o) {
   o->width = f.width;
   o->height = f.height;
   if (!parse_field(f.field, &o->field))
-    throw UserError("--field " + f.field + ": unknown (max | min | mean | plain)");
+    throw UserError("--field " + f.field + ": unknown (max | min | mean | bending | plain)");
   if (!parse_colormap(f.colormap, &o->colormap))
     throw UserError("--colormap " + f.colormap + ": unknown (viridis | coolwarm)");
   if (!parse_backend(f.backend, &o->backend))
