@@ -10,13 +10,12 @@ Usage: validation/divisions.py [--exe build/src/app/capflow] [--reuse] [--only N
 Every figure comes from the run's run.log: the "end" line (t, wall, D, L, volume drift), the
 first health warning and the failure, if any.
 """
-import argparse
 import os
 import re
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from table import ROOT, default_division, end_line, ensure_study_run, fmt_wall  # noqa: E402
+from table import ROOT, default_division, end_line, ensure_study_run, fmt_wall, study_args  # noqa: E402
 
 OUT = os.path.join(ROOT, "runs", "validation", "divisions")
 
@@ -73,12 +72,8 @@ def health(rdir):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--exe", default=os.path.join(ROOT, "build/src/app/capflow"))
-    ap.add_argument("--reuse", action="store_true", help="reuse finished runs in their run directories")
-    ap.add_argument("--only", default="", help="comma-separated run names")
-    a = ap.parse_args()
-    only = set(filter(None, a.only.split(",")))
+    a = study_args(__doc__)
+    only = a.only
     print("Skalak C=1 from rest, planar extension (`validation/divisions.py`; one thread per run):")
     print()
     print("| run | Ca | NE | division | NB, dt | reached | D | L | volume drift | first health warning | wall |")

@@ -101,7 +101,7 @@ def end_line(rdir):
                 last = line
     if last is None:
         return None
-    m = re.search(r"end \((.*)\): t=([-0-9.e+]+) steps=(\d+) wall=([0-9.]+) s, D=([-0-9.e+]+) "
+    m = re.search(r"end \((.*)\): t=([-0-9.e+]+) steps=(\d+).*? wall=([0-9.]+) s, D=([-0-9.e+]+) "
                   r"L=([-0-9.e+]+) S=([-0-9.e+]+) W=([-0-9.e+]+), volume drift ([-0-9.e+]+)", last)
     if not m:
         return None
@@ -215,6 +215,18 @@ def resolution(cfg, rdir=None):
         r += ", continued from %s%s" % (os.path.basename(src.rstrip("/")),
                                         " at t=%.2f" % t0 if t0 is not None else "")
     return r
+
+
+def study_args(doc, reuse_help="reuse finished runs in their run directories"):
+    """The command line of a study that runs capflow: --exe, --reuse and --only (the set of run
+    names, empty for all)."""
+    ap = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--exe", default=os.path.join(ROOT, "build/src/app/capflow"))
+    ap.add_argument("--reuse", action="store_true", help=reuse_help)
+    ap.add_argument("--only", default="", help="comma-separated run names")
+    a = ap.parse_args()
+    a.only = set(filter(None, a.only.split(",")))
+    return a
 
 
 def fmt_wall(s):

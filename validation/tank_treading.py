@@ -35,8 +35,7 @@ import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from run_util import run_control, study_args  # noqa: E402
-from table import ROOT  # noqa: E402
+from table import ROOT, end_line, ensure_study_run, fmt_wall, study_args  # noqa: E402
 
 OUT = os.path.join(ROOT, "runs", "validation", "tank_treading")
 
@@ -86,32 +85,6 @@ def control(name, lam, ca, c, mesh, t_end):
     }
 
 
-def finished(rdir):
-    log = os.path.join(rdir, "run.log")
-    return os.path.exists(log) and "t_end reached" in open(log).read()
-
-
-def wall(rdir):
-    """The run's wall time from its end line ("-" when there is none)."""
-    log = os.path.join(rdir, "run.log")
-    m = re.search(r"end \(.*wall=([0-9.]+) s", open(log).read() if os.path.exists(log) else "")
-    return "%.0f s" % float(m.group(1)) if m else "-"
-
-
-def failure_time(rdir):
-    """The time of the run's failure, from its end line ("?" when there is none)."""
-    log = os.path.join(rdir, "run.log")
-    m = re.search(r"end \(failure\): t=([0-9.e+-]+)", open(log).read() if os.path.exists(log) else "")
-    return m.group(1) if m else "?"
-
-
-def run(exe, spec, reuse):
-    rdir = os.path.join(OUT, spec[0])
-    if not (reuse and os.path.exists(os.path.join(rdir, "run.log"))):
-        run_control(exe, "run", rdir, control(*spec))
-    return rdir
-
-
 def last_turn(exe, rdir):
     """(start, T) of the membrane point's last full turn, from capflow figure's note, or the
     mean turning rate (deg per unit G t) when it has made no full turn."""
@@ -142,10 +115,15 @@ def main():
         name, lam, ca, c, mesh, _ = spec
         if a.only and name not in a.only:
             continue
-        rdir = run(a.exe, spec, a.reuse)
+        rdir = ensure_study_run(a.exe, OUT, name, control(*spec), a.reuse, "validation/tank_treading.py")
+        e = end_line(rdir)
+        if e is None:
+            print("| %s | %g | %g | %g | %d %d | no run (see %s.out) | | | | | | |" % (
+                name, lam, ca, c, mesh[0], mesh[1], rdir))
+            continue
         ref = [measured(s, ca) for s in (FISCHER_2015, TRAN_SON_TAY_1984)]
         turn = last_turn(a.exe, rdir) if os.path.exists(os.path.join(rdir, "surface.pvd")) else None
-        failed = "" if finished(rdir) else "failed at t = %s; " % failure_time(rdir)
+        failed = "" if e["reason"] == "t_end reached" else "failed at t = %g; " % e["t"]
         if turn is None or isinstance(turn, float):
             rate = "" if turn is None else ", mean turning %.1f deg per G t" % turn
             state, cols = failed + "no full turn" + rate, ["-", "-", "-"]
@@ -161,7 +139,7 @@ def main():
         ref = [r if isinstance(r, str) else "-" for r in ref]
         print("| %s | %g | %g | %g | %d %d | %s | %s | %s | %s |" % (
             name, lam, ca, c, mesh[0], mesh[1], state, " | ".join(cols), " | ".join(ref),
-            wall(rdir)), flush=True)
+            fmt_wall(e["wall"])), flush=True)
 
 
 if __name__ == "__main__":
