@@ -223,9 +223,10 @@ output::VtkSurface RunOutputs::surface(const StateRecord& s) const {
   const render::Snapshot sn = snapshot(s);
   const Eigen::Matrix3Xd& x = cap.positions();
   const int n = opt_.output.vtk_points > 0 ? opt_.output.vtk_points : cap.mesh().nb();
-  Eigen::VectorXd bending;
-  if (cap.bending()) bending = cap.bending()->energy_density(x);
-  return surface_export(cap.mesh(), {&x, &u, &sn, cap.bending() ? &bending : nullptr}, n);
+  // the bending energy density the snapshot already holds (render::Snapshot::bending)
+  const Eigen::VectorXd bending = Eigen::Map<const Eigen::VectorXd>(
+      sn.bending.data(), static_cast<Eigen::Index>(sn.bending.size()));
+  return surface_export(cap.mesh(), {&x, &u, &sn, sn.bending.empty() ? nullptr : &bending}, n);
 }
 
 long RunOutputs::frames_on_disk() const {

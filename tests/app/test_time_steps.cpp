@@ -203,15 +203,21 @@ TEST(TimeSteps, AResumedRunFromBeforeTheDtColumnGetsIt) {
 
 namespace {
 
+// A CSV line's fields (a trailing comma ends with an empty one).
+std::vector<std::string> fields_of(const std::string& line) {
+  std::vector<std::string> f;
+  std::istringstream in(line);
+  for (std::string x; std::getline(in, x, ',');) f.push_back(x);
+  if (!line.empty() && line.back() == ',') f.emplace_back();
+  return f;
+}
+
 // The lines of a CSV file without the named columns.
 std::string without_columns(const fs::path& file, const std::vector<std::string>& names) {
-  const std::vector<std::string> lines = test::lines_of(file);
   std::vector<bool> keep;
   std::string out;
-  for (const std::string& line : lines) {
-    std::vector<std::string> f;
-    std::istringstream in(line);
-    for (std::string x; std::getline(in, x, ',');) f.push_back(x);
+  for (const std::string& line : test::lines_of(file)) {
+    const std::vector<std::string> f = fields_of(line);
     if (keep.empty())
       for (const std::string& x : f)
         keep.push_back(std::find(names.begin(), names.end(), x) == names.end());
@@ -242,11 +248,7 @@ TEST(TimeSteps, RowsCarryTheBendingEnergyAndAResumeFromBeforeThatColumnGetsIt) {
     ASSERT_FALSE(sim.run().failed);
   }
   const auto column = [&](const std::vector<std::string>& lines, size_t row) {
-    std::vector<std::string> head, f;
-    std::istringstream h(lines.at(0)), r(lines.at(row));
-    for (std::string x; std::getline(h, x, ',');) head.push_back(x);
-    for (std::string x; std::getline(r, x, ',');) f.push_back(x);
-    if (!lines.at(row).empty() && lines.at(row).back() == ',') f.emplace_back();
+    const std::vector<std::string> head = fields_of(lines.at(0)), f = fields_of(lines.at(row));
     const size_t i = std::find(head.begin(), head.end(), "bending_energy") - head.begin();
     return i < f.size() ? f[i] : std::string("missing");
   };
